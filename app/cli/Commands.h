@@ -1,0 +1,16 @@
+#pragma once
+// The subcommands of aeroform-cli. Each takes its own arguments (after the subcommand name),
+// writes human output to stderr or machine output (--json) to stdout, and returns the
+// process exit code: 0 success, 1 failure of the work (bad input, invalid geometry),
+// 2 usage error. Exceptions from libcore are caught here, at the boundary.
+#include <string>
+
+namespace aero::app {
+
+/// Dispatches argv[1] (the subcommand); argv[0] is the program name.
+int runCli(int argc, char** argv);
+
+/// Headless run of a case or geometry file (what `aeroform --batch FILE` does).
+int runBatch(const std::string& path);
+
+}  // namespace aero::app

@@ -1,0 +1,171 @@
+#include "geometry/Topology.h"
+
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "nurbs/Inversion.h"
+
+namespace aero::geometry {
+
+using nurbs::Vec3;
+
+ControlPointIndex buildControlPointIndex(const PatchSet& set, double tolerance) {
+    ControlPointIndex idx;
+    idx.tolerance = tolerance;
+    idx.patchOffset.resize(set.patches.size() + 1, 0);
+    for (std::size_t p = 0; p < set.patches.size(); ++p) {
+        idx.patchOffset[p + 1] = idx.patchOffset[p] + set.patches[p].controlCount();
+    }
+    idx.toUnique.resize(idx.patchOffset.back());
+    // Spatial hash with cells of size h >= tolerance: a match lies in one of 27 cells.
+    const double h = std::max(tolerance, 1e-300) * 2.0;
+    auto cell = [h](double x) { return static_cast<long long>(std::floor(x / h)); };
+    auto key = [](long long i, long long j, long long k) {
+        return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
+    };
+    std::unordered_multimap<long long, int> grid;
+    grid.reserve(idx.toUnique.size());
+    int a = 0;
+    for (const Patch& patch : set.patches) {
+        for (int c = 0; c < patch.controlCount(); ++c, ++a) {
+            const double* x = &patch.points[3 * c];
+            const long long ci = cell(x[0]), cj = cell(x[1]), ck = cell(x[2]);
+            int found = -1;
+            for (long long di = -1; di <= 1 && found < 0; ++di) {
+                for (long long dj = -1; dj <= 1 && found < 0; ++dj) {
+                    for (long long dk = -1; dk <= 1 && found < 0; ++dk) {
+                        auto range = grid.equal_range(key(ci + di, cj + dj, ck + dk));
+                        for (auto it = range.first; it != range.second; ++it) {
+                            const double* y = &idx.points[3 * it->second];
+                            const double d = std::sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
+                                                       (x[2] - y[2]) * (x[2] - y[2]));
+                            if (d <= tolerance) {
+                                found = it->second;
+                                break;
+                            }
+                        }
+                    }
+                }
+            }
+            if (found < 0) {
+                found = idx.uniqueCount();
+                idx.points.insert(idx.points.end(), x, x + 3);
+                grid.emplace(key(ci, cj, ck), found);
+            }
+            idx.toUnique[a] = found;
+        }
+    }
+    return idx;
+}
+
+namespace {
+
+struct EdgeInfo {
+    nurbs::Curve<double> curve;
+    Vec3<double> start, end, mid;
+    double length = 0;  // chord of the control polygon, a scale for tolerances
+};
+
+Vec3<double> point(const nurbs::Curve<double>& c, int i) {
+    return Vec3<double>(c.points[3 * i], c.points[3 * i + 1], c.points[3 * i + 2]);
+}
+
+// Largest distance from samples of a to curve b (one-sided Hausdorff estimate).
+double oneSidedGap(const nurbs::Curve<double>& a, const nurbs::Curve<double>& b) {
+    constexpr int kSamples = 33;
+    double gap = 0;
+    nurbs::InversionOptions o;
+    o.tolerance = 1e-15;
+    for (int s = 0; s < kSamples; ++s) {
+        const double u = a.first() + (a.last() - a.first()) * s / (kSamples - 1);
+        const Vec3<double> p = nurbs::evaluate(a, u);
+        gap = std::max(gap, nurbs::project(b, p, o).distance);
+    }
+    return gap;
+}
+
+// Max distance between corresponding control points (in order or reversed), or +inf if the
+// two curves do not have matching degree, knots (reversed when needed) and counts.
+double netDifference(const nurbs::Curve<double>& a, const nurbs::Curve<double>& b, bool reversed) {
+    if (a.degree != b.degree || a.count() != b.count() || a.rational() != b.rational()) {
+        return std::numeric_limits<double>::infinity();
+    }
+    const int n = a.count();
+    double d = 0;
+    for (int i = 0; i < n; ++i) {
+        const int j = reversed ? n - 1 - i : i;
+        d = std::max(d, (point(a, i) - point(b, j)).norm());
+        if (a.rational() && a.weights[i] != b.weights[j]) return std::numeric_limits<double>::infinity();
+    }
+    return d;
+}
+
+// Same knot vectors up to an affine reparameterization (reversed when the edges run opposite).
+bool equivalentKnots(const nurbs::Curve<double>& a, const nurbs::Curve<double>& b, bool reversed) {
+    if (a.knots.size() != b.knots.size()) return false;
+    const std::size_t n = a.knots.size();
+    const double la = a.last() - a.first(), lb = b.last() - b.first();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double ta = (a.knots[i] - a.first()) / la;
+        const double tb = reversed ? (b.last() - b.knots[n - 1 - i]) / lb : (b.knots[i] - b.first()) / lb;
+        if (std::abs(ta - tb) > 1e-14) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+Adjacency buildAdjacency(const PatchSet& set, double tolerance) {
+    std::vector<EdgeInfo> edges;
+    std::vector<EdgeRef> refs;
+    for (int p = 0; p < set.size(); ++p) {
+        for (int e = 0; e < 4; ++e) {
+            EdgeInfo info;
+            info.curve = nurbs::boundaryCurve(set.patches[p], e);
+            const int n = info.curve.count();
+            info.start = point(info.curve, 0);
+            info.end = point(info.curve, n - 1);
+            info.mid = nurbs::evaluate(info.curve, 0.5 * (info.curve.first() + info.curve.last()));
+            for (int i = 1; i < n; ++i) info.length += (point(info.curve, i) - point(info.curve, i - 1)).norm();
+            edges.push_back(std::move(info));
+            refs.push_back({p, e});
+        }
+    }
+    Adjacency adj;
+    std::vector<bool> used(edges.size(), false);
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (used[i]) continue;
+        const EdgeInfo& a = edges[i];
+        if (a.length <= tolerance) {  // degenerate edge (a pole): nothing to share
+            adj.free.push_back(refs[i]);
+            continue;
+        }
+        // A partner's midpoint must lie close to ours: within 1% of the edge length.
+        const double midTol = std::max(tolerance, 1e-2 * a.length);
+        for (std::size_t j = i + 1; j < edges.size(); ++j) {
+            if (used[j] || refs[j].patch == refs[i].patch) continue;
+            const EdgeInfo& b = edges[j];
+            const bool same = (a.start - b.start).norm() <= tolerance && (a.end - b.end).norm() <= tolerance;
+            const bool rev = (a.start - b.end).norm() <= tolerance && (a.end - b.start).norm() <= tolerance;
+            if ((!same && !rev) || (a.mid - b.mid).norm() > midTol) continue;
+            SharedEdge s;
+            s.a = refs[i];
+            s.b = refs[j];
+            s.reversed = !same;
+            s.identicalNets = netDifference(a.curve, b.curve, s.reversed) == 0.0;
+            // Identical nets over equivalent knot vectors are the same curve: no gap at all.
+            s.gap = (s.identicalNets && equivalentKnots(a.curve, b.curve, s.reversed))
+                        ? 0.0
+                        : std::max(oneSidedGap(a.curve, b.curve), oneSidedGap(b.curve, a.curve));
+            adj.maxGap = std::max(adj.maxGap, s.gap);
+            adj.shared.push_back(s);
+            used[i] = used[j] = true;
+            break;
+        }
+        if (!used[i]) adj.free.push_back(refs[i]);
+    }
+    return adj;
+}
+
+}  // namespace aero::geometry

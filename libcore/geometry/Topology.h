@@ -1,0 +1,44 @@
+#pragma once
+// Connectivity of a patch network: the unique control-point index (coincident control points
+// merged) and the edge adjacency with its watertightness report.
+#include "geometry/PatchSet.h"
+
+namespace aero::geometry {
+
+/// Unique control points. toUnique[offset(p) + i + countU*j] is the unique index of control
+/// point (i, j) of patch p, where offset(p) is the sum of the control counts of patches < p.
+struct ControlPointIndex {
+    std::vector<int> toUnique;          // one per non-unique control point
+    std::vector<int> patchOffset;       // size() + 1 entries
+    std::vector<double> points;         // 3 * uniqueCount, the first representative's coords
+    double tolerance = 0;
+    int uniqueCount() const { return static_cast<int>(points.size() / 3); }
+};
+
+/// Merges control points closer than `tolerance` (absolute, world units). O(n log n).
+ControlPointIndex buildControlPointIndex(const PatchSet& set, double tolerance = 1e-10);
+
+/// One side of a shared edge: patch, edge (0: v=v0, 1: u=u1, 2: v=v1, 3: u=u0).
+struct EdgeRef {
+    int patch = -1;
+    int edge = -1;
+};
+
+struct SharedEdge {
+    EdgeRef a, b;
+    bool reversed = false;   // b runs opposite to a
+    double gap = 0;          // largest distance between the two boundary curves (sampled)
+    bool identicalNets = false;  // the boundary control points coincide one to one
+};
+
+struct Adjacency {
+    std::vector<SharedEdge> shared;
+    std::vector<EdgeRef> free;   // edges with no partner (e.g. on a symmetry plane)
+    double maxGap = 0;           // largest gap over shared edges
+};
+
+/// Pairs patch edges whose end points coincide within `tolerance` and whose midpoints are
+/// within `matchDistance`; measures each pair's gap by sampling and projecting.
+Adjacency buildAdjacency(const PatchSet& set, double tolerance = 1e-6);
+
+}  // namespace aero::geometry

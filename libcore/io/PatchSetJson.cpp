@@ -1,0 +1,170 @@
+#include "io/PatchSetJson.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/Error.h"
+
+namespace aero::io {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kFormat = "aeroform.patchset";
+constexpr int kVersion = 1;
+
+[[noreturn]] void fail(const std::string& origin, const std::string& where, const std::string& why) {
+    throw InputError("'" + origin + "': " + where + ": " + why);
+}
+
+const json& require(const json& obj, const char* key, const std::string& origin, const std::string& where) {
+    auto it = obj.find(key);
+    if (it == obj.end()) fail(origin, where, std::string("missing key '") + key + "'");
+    return *it;
+}
+
+std::vector<double> numbers(const json& arr, const std::string& origin, const std::string& where) {
+    if (!arr.is_array()) fail(origin, where, "expected an array of numbers");
+    std::vector<double> out;
+    out.reserve(arr.size());
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+        if (!arr[i].is_number()) {
+            fail(origin, where + "[" + std::to_string(i) + "]", "expected a number, found " + std::string(arr[i].type_name()));
+        }
+        out.push_back(arr[i].get<double>());
+    }
+    return out;
+}
+
+std::array<int, 2> intPair(const json& v, const std::string& origin, const std::string& where) {
+    if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer()) {
+        fail(origin, where, "expected two integers");
+    }
+    return {v[0].get<int>(), v[1].get<int>()};
+}
+
+}  // namespace
+
+geometry::PatchSet parsePatchSetJson(const std::string& text, const std::string& origin) {
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw InputError("'" + origin + "': not valid JSON: " + e.what());
+    }
+    if (!doc.is_object()) fail(origin, "document", "expected a JSON object");
+    for (auto it = doc.begin(); it != doc.end(); ++it) {
+        if (it.key() != "format" && it.key() != "version" && it.key() != "patches") {
+            fail(origin, "document", "unknown key '" + it.key() + "'");
+        }
+    }
+    const json& format = require(doc, "format", origin, "document");
+    if (!format.is_string() || format.get<std::string>() != kFormat) {
+        fail(origin, "format", std::string("expected \"") + kFormat + "\"");
+    }
+    const json& version = require(doc, "version", origin, "document");
+    if (!version.is_number_integer() || version.get<int>() != kVersion) {
+        fail(origin, "version", "unsupported version (this build reads version " + std::to_string(kVersion) + ")");
+    }
+    const json& patches = require(doc, "patches", origin, "document");
+    if (!patches.is_array()) fail(origin, "patches", "expected an array");
+
+    geometry::PatchSet set;
+    set.source = origin;
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+        const std::string where = "patches[" + std::to_string(p) + "]";
+        const json& jp = patches[p];
+        if (!jp.is_object()) fail(origin, where, "expected an object");
+        static const char* kKeys[] = {"name", "degree", "count", "knots_u", "knots_v", "points", "weights"};
+        for (auto it = jp.begin(); it != jp.end(); ++it) {
+            if (std::find(std::begin(kKeys), std::end(kKeys), it.key()) == std::end(kKeys)) {
+                fail(origin, where, "unknown key '" + it.key() + "'");
+            }
+        }
+        geometry::Patch patch;
+        const auto degree = intPair(require(jp, "degree", origin, where), origin, where + ".degree");
+        const auto count = intPair(require(jp, "count", origin, where), origin, where + ".count");
+        patch.degreeU = degree[0];
+        patch.degreeV = degree[1];
+        patch.countU = count[0];
+        patch.countV = count[1];
+        if (count[0] < 1 || count[1] < 1 || count[0] > 100000 || count[1] > 100000) {
+            fail(origin, where + ".count", "counts must be positive");
+        }
+        patch.knotsU = numbers(require(jp, "knots_u", origin, where), origin, where + ".knots_u");
+        patch.knotsV = numbers(require(jp, "knots_v", origin, where), origin, where + ".knots_v");
+        const json& pts = require(jp, "points", origin, where);
+        if (!pts.is_array()) fail(origin, where + ".points", "expected an array of [x, y, z]");
+        patch.points.reserve(3 * pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const std::vector<double> xyz = numbers(pts[i], origin, where + ".points[" + std::to_string(i) + "]");
+            if (xyz.size() != 3) fail(origin, where + ".points[" + std::to_string(i) + "]", "expected [x, y, z]");
+            patch.points.insert(patch.points.end(), xyz.begin(), xyz.end());
+        }
+        if (auto w = jp.find("weights"); w != jp.end()) patch.weights = numbers(*w, origin, where + ".weights");
+        std::string name;
+        if (auto n = jp.find("name"); n != jp.end()) {
+            if (!n->is_string()) fail(origin, where + ".name", "expected a string");
+            name = n->get<std::string>();
+        }
+        set.patches.push_back(std::move(patch));
+        set.names.push_back(name);
+    }
+    try {
+        geometry::validate(set);
+    } catch (const GeometryError& e) {
+        throw InputError(e.what());
+    }
+    return set;
+}
+
+std::string formatPatchSetJson(const geometry::PatchSet& set) {
+    json doc;
+    doc["format"] = kFormat;
+    doc["version"] = kVersion;
+    json patches = json::array();
+    for (int p = 0; p < set.size(); ++p) {
+        const geometry::Patch& s = set.patches[p];
+        json jp;
+        jp["name"] = p < static_cast<int>(set.names.size()) ? set.names[p] : "";
+        jp["degree"] = {s.degreeU, s.degreeV};
+        jp["count"] = {s.countU, s.countV};
+        jp["knots_u"] = s.knotsU;
+        jp["knots_v"] = s.knotsV;
+        json pts = json::array();
+        for (std::size_t a = 0; a < s.points.size(); a += 3) pts.push_back({s.points[a], s.points[a + 1], s.points[a + 2]});
+        jp["points"] = std::move(pts);
+        if (s.rational()) jp["weights"] = s.weights;
+        patches.push_back(std::move(jp));
+    }
+    doc["patches"] = std::move(patches);
+    return doc.dump(1) + "\n";
+}
+
+geometry::PatchSet readPatchSetJson(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot open patch-set file '" + path + "'");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return parsePatchSetJson(ss.str(), path);
+}
+
+void writePatchSetJson(const geometry::PatchSet& set, const std::string& path) {
+    const std::string text = formatPatchSetJson(set);
+    // Write to a temporary file and rename: an existing file is never left half-written.
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw InputError("cannot write patch-set file '" + path + "'");
+        out << text;
+        if (!out.flush()) throw InputError("cannot write patch-set file '" + path + "'");
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw InputError("cannot replace patch-set file '" + path + "'");
+    }
+}
+
+}  // namespace aero::io

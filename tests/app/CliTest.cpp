@@ -1,0 +1,120 @@
+// End-to-end tests of aeroform-cli: exit codes, clean machine-readable stdout, clear errors.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/PatchSetJson.h"
+
+namespace {
+
+struct Result {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string tmp(const std::string& name) { return std::string(AEROFORM_TEST_OUTPUT_DIR) + "/cli_" + name; }
+
+Result run(const std::string& args) {
+    static int counter = 0;
+    const std::string base = tmp("run" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    const std::string cmd = std::string("'") + AEROFORM_CLI + "' " + args + " > '" + base + ".out' 2> '" + base + ".err' < /dev/null";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(base + ".out");
+    r.err = slurp(base + ".err");
+    return r;
+}
+
+const std::string kSamples = AEROFORM_SAMPLES_DIR;
+
+}  // namespace
+
+TEST(Cli, InfoJsonOnTheShippedSamples) {
+    for (const std::string file : {"half_sphere.json", "half_sphere.igs"}) {
+        const Result r = run("info '" + kSamples + "/" + file + "' --json");
+        ASSERT_EQ(r.code, 0) << r.err;
+        // Nothing but one JSON object on stdout (OpenCASCADE's console output included).
+        nlohmann::json j;
+        ASSERT_NO_THROW(j = nlohmann::json::parse(r.out)) << "stdout: " << r.out;
+        EXPECT_EQ(j["patches"], 20);
+        EXPECT_EQ(j["control_points"], 720);
+        EXPECT_EQ(j["unique_control_points"], 521);
+        EXPECT_EQ(j["max_edge_gap"], 0.0);
+        EXPECT_EQ(j["shared_edges"], 36);
+        EXPECT_EQ(j["free_edges"], 8);
+        EXPECT_NEAR(j["bbox"]["min"][1].get<double>(), 0.0, 0.0);
+        EXPECT_NEAR(j["bbox"]["max"][1].get<double>(), 1.0, 0.05);
+    }
+}
+
+TEST(Cli, SampleGeneratesTheShippedGeometryExactly) {
+    const Result r = run("sample half-sphere -o '" + tmp("hs.json") + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_LT(j["max_radial_deviation"].get<double>(), 2e-4);
+    const auto made = aero::io::readPatchSetJson(tmp("hs.json"));
+    const auto shipped = aero::io::readPatchSetJson(kSamples + "/half_sphere.json");
+    ASSERT_EQ(made.size(), shipped.size());
+    for (int p = 0; p < made.size(); ++p) EXPECT_EQ(made.patches[p].points, shipped.patches[p].points);
+}
+
+TEST(Cli, ConvertRoundTripThroughIgesIsExact) {
+    ASSERT_EQ(run("convert '" + kSamples + "/half_sphere.json' -o '" + tmp("hs.igs") + "'").code, 0);
+    ASSERT_EQ(run("convert '" + tmp("hs.igs") + "' -o '" + tmp("hs_back.json") + "'").code, 0);
+    const auto a = aero::io::readPatchSetJson(kSamples + "/half_sphere.json");
+    const auto b = aero::io::readPatchSetJson(tmp("hs_back.json"));
+    ASSERT_EQ(a.size(), b.size());
+    for (int p = 0; p < a.size(); ++p) {
+        EXPECT_EQ(a.patches[p].points, b.patches[p].points);
+        EXPECT_EQ(a.patches[p].knotsU, b.patches[p].knotsU);
+        EXPECT_EQ(a.patches[p].weights, b.patches[p].weights);
+    }
+}
+
+TEST(Cli, BadInputGivesAClearErrorAndExitCode1) {
+    Result r = run("info '" + tmp("missing.igs") + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("missing.igs"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty());
+
+    std::ofstream(tmp("garbage.igs")) << "this is not an IGES file\n";
+    r = run("info '" + tmp("garbage.igs") + "' --json");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("garbage.igs"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+
+    std::ofstream(tmp("bad.json")) << R"({"format": "aeroform.patchset", "version": 1, "patches": [{"degree": [1, 1], "count": [2, 2], "knots_u": [0, 0.5, 0, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}]})";
+    r = run("info '" + tmp("bad.json") + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("patch 1"), std::string::npos) << r.err;
+}
+
+TEST(Cli, UsageErrorsExitWith2AndHelpWorksEverywhere) {
+    EXPECT_EQ(run("").code, 2);
+    EXPECT_EQ(run("frobnicate").code, 2);
+    EXPECT_EQ(run("info").code, 2);
+    EXPECT_EQ(run("info a b").code, 2);
+    EXPECT_EQ(run("info x.json --colour").code, 2);
+    EXPECT_EQ(run("sample sphere -o x.json").code, 2);
+    EXPECT_EQ(run("sample half-sphere").code, 2);
+    EXPECT_EQ(run("sample half-sphere -o x.json --radius -1").code, 2);
+    EXPECT_EQ(run("convert in.json").code, 2);
+    for (const char* cmd : {"--help", "info --help", "sample --help", "convert --help"}) {
+        const Result r = run(cmd);
+        EXPECT_EQ(r.code, 0) << cmd;
+        EXPECT_NE(r.out.find("usage:"), std::string::npos) << cmd;
+    }
+}

@@ -1,0 +1,91 @@
+#include "io/PatchSetJson.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "RandomNurbs.h"
+#include "common/Error.h"
+#include "geometry/HalfSphere.h"
+
+using namespace aero;
+
+namespace {
+
+void expectIdentical(const geometry::PatchSet& a, const geometry::PatchSet& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (int p = 0; p < a.size(); ++p) {
+        const auto &x = a.patches[p], &y = b.patches[p];
+        EXPECT_EQ(x.degreeU, y.degreeU);
+        EXPECT_EQ(x.degreeV, y.degreeV);
+        EXPECT_EQ(x.countU, y.countU);
+        EXPECT_EQ(x.countV, y.countV);
+        EXPECT_EQ(x.knotsU, y.knotsU);  // bit for bit
+        EXPECT_EQ(x.knotsV, y.knotsV);
+        EXPECT_EQ(x.points, y.points);
+        EXPECT_EQ(x.weights, y.weights);
+    }
+    EXPECT_EQ(a.names, b.names);
+}
+
+std::string tempPath(const std::string& name) { return std::string(AEROFORM_TEST_OUTPUT_DIR) + "/" + name; }
+
+void expectInputError(const std::string& text, const std::string& fragment) {
+    try {
+        io::parsePatchSetJson(text, "case.json");
+        ADD_FAILURE() << "no error, expected: " << fragment;
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("case.json"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+
+TEST(PatchSetJson, RoundTripIsExact) {
+    std::mt19937 rng(61);
+    geometry::PatchSet set;
+    for (int p = 0; p < 6; ++p) {
+        set.patches.push_back(test::randomSurface(rng, 1 + p % 4, 1 + p % 3, 5 + p, 4 + p, p % 2 == 0));
+        set.names.push_back("patch" + std::to_string(p));
+    }
+    const std::string path = tempPath("roundtrip.json");
+    io::writePatchSetJson(set, path);
+    expectIdentical(set, io::readPatchSetJson(path));
+    expectIdentical(geometry::makeHalfSphere(), io::parsePatchSetJson(io::formatPatchSetJson(geometry::makeHalfSphere()), "x"));
+}
+
+TEST(PatchSetJson, BadInputNamesFileAndKey) {
+    const std::string good = io::formatPatchSetJson(geometry::makeHalfSphere());
+    expectInputError("{ not json", "not valid JSON");
+    expectInputError("[1, 2]", "expected a JSON object");
+    expectInputError(R"({"format": "aeroform.patchset", "version": 1})", "missing key 'patches'");
+    expectInputError(R"({"format": "something", "version": 1, "patches": []})", "format");
+    expectInputError(R"({"format": "aeroform.patchset", "version": 7, "patches": []})", "unsupported version");
+    expectInputError(R"({"format": "aeroform.patchset", "version": 1, "patches": [], "extra": 1})", "unknown key 'extra'");
+    expectInputError(R"({"format": "aeroform.patchset", "version": 1, "patches": []})", "no patches");
+    const std::string patchHead = R"({"format": "aeroform.patchset", "version": 1, "patches": [{"name": "w", "degree": [1, 1], "count": [2, 2], )";
+    expectInputError(patchHead + R"("knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[1,0,0],[0,1,0],["a",1,0]]}]})",
+                     "patches[0].points[3][0]");
+    expectInputError(patchHead + R"("knots_u": [0, 1, 0, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}]})",
+                     "decreases");
+    expectInputError(patchHead + R"("knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,null]]}]})",
+                     "expected a number");
+    expectInputError(patchHead + R"("knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[1,0,0],[0,1,0]]}]})",
+                     "expected 12");
+    expectInputError(patchHead + R"("knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "colour": 3, "points": []}]})",
+                     "unknown key 'colour'");
+    try {
+        io::readPatchSetJson(tempPath("does-not-exist.json"));
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("does-not-exist.json"), std::string::npos);
+    }
+}
+
+TEST(PatchSetJson, FailedWriteLeavesTheExistingFileIntact) {
+    const std::string path = tempPath("keep.json");
+    io::writePatchSetJson(geometry::makeHalfSphere(), path);
+    EXPECT_THROW(io::writePatchSetJson(geometry::makeHalfSphere(), tempPath("no-such-dir/x.json")), InputError);
+    EXPECT_EQ(io::readPatchSetJson(path).size(), 20);
+}
