@@ -1,5 +1,6 @@
 #include "geometry/Topology.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -71,18 +72,44 @@ Vec3<double> point(const nurbs::Curve<double>& c, int i) {
     return Vec3<double>(c.points[3 * i], c.points[3 * i + 1], c.points[3 * i + 2]);
 }
 
-// Largest distance from samples of a to curve b (one-sided Hausdorff estimate).
+// Largest distance from curve a to curve b (one-sided Hausdorff distance): dense samples,
+// then a golden-section refinement of the worst one, so the maximum is not missed by O(h^2).
 double oneSidedGap(const nurbs::Curve<double>& a, const nurbs::Curve<double>& b) {
     constexpr int kSamples = 33;
-    double gap = 0;
     nurbs::InversionOptions o;
     o.tolerance = 1e-15;
+    auto distance = [&](double u) { return nurbs::project(b, nurbs::evaluate(a, u), o).distance; };
+    const double h = (a.last() - a.first()) / (kSamples - 1);
+    double gap = 0, worst = a.first();
     for (int s = 0; s < kSamples; ++s) {
-        const double u = a.first() + (a.last() - a.first()) * s / (kSamples - 1);
-        const Vec3<double> p = nurbs::evaluate(a, u);
-        gap = std::max(gap, nurbs::project(b, p, o).distance);
+        const double u = a.first() + h * s;
+        const double d = distance(u);
+        if (d > gap) {
+            gap = d;
+            worst = u;
+        }
     }
-    return gap;
+    if (gap == 0) return 0;
+    double lo = std::max(a.first(), worst - h), hi = std::min(a.last(), worst + h);
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    double f1 = distance(x1), f2 = distance(x2);
+    for (int it = 0; it < 40; ++it) {
+        if (f1 > f2) {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = distance(x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = distance(x2);
+        }
+    }
+    return std::max({gap, f1, f2});
 }
 
 // Max distance between corresponding control points (in order or reversed), or +inf if the

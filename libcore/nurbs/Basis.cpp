@@ -3,6 +3,7 @@
 #include <cmath>
 #include <complex>
 #include <sstream>
+#include <type_traits>
 
 #include "common/Error.h"
 #include "common/Scalar.h"
@@ -82,8 +83,29 @@ int findSpan(std::span<const double> knots, int degree, int count, double u) {
     return mid;
 }
 
+namespace {
+
+// At the clamped ends the basis is exactly (1, 0, ..., 0) or (0, ..., 0, 1); the recursion
+// would give 1 only up to round-off (x * (1/x)). Real parameters only: a complex-step
+// parameter keeps the recursion so its derivative information survives.
+template <class T>
+bool exactEndValues(std::span<const double> knots, int degree, const T& u, T* N) {
+    if constexpr (std::is_floating_point_v<T>) {
+        const bool start = u <= knots[degree], end = u >= knots[knots.size() - degree - 1];
+        if (start || end) {
+            for (int j = 0; j <= degree; ++j) N[j] = T(0.0);
+            N[start ? 0 : degree] = T(1.0);
+            return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
 template <class T>
 void basisFunctions(std::span<const double> knots, int degree, int span, const T& u, T* N) {
+    if (exactEndValues(knots, degree, u, N)) return;
     T left[kMaxDegree + 1], right[kMaxDegree + 1];
     N[0] = T(1.0);
     for (int j = 1; j <= degree; ++j) {
@@ -118,6 +140,7 @@ void basisDerivatives(std::span<const double> knots, int degree, int span, const
         ndu[j][j] = saved;
     }
     for (int j = 0; j <= p; ++j) ders[j] = ndu[j][p];
+    exactEndValues(knots, degree, u, ders);
     const int top = nd < p ? nd : p;
     T a[2][kMaxDegree + 1];
     for (int r = 0; r <= p; ++r) {

@@ -2,6 +2,7 @@
 // NURBS curves: plain data plus free evaluation functions. Rational curves are evaluated in
 // homogeneous coordinates (Eq. 1 of the paper) reusing the polynomial kernel.
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products on Vec3
 #include <span>
 #include <vector>
 

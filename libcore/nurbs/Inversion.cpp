@@ -167,7 +167,11 @@ VolumeInversion VolumeInverter::operator()(const Vec3<double>& p) const {
             step.setZero();
             for (int t = 0; t < nf; ++t) step[freeIdx[t]] = sf[t];
         }
-        // Backtracking line search on the residual norm.
+        // Backtracking line search (Armijo on the Gauss-Newton model): the decrease is measured
+        // against what the linear model predicts, not against the whole residual, so a point
+        // outside the volume still converges to its closest point on the boundary.
+        const double predicted = res.squaredNorm() - (res - J * step).squaredNorm();
+        if (!(predicted > 1e-32 * std::max(1.0, res.squaredNorm()))) break;  // nothing left to gain
         double alpha = 1.0;
         std::array<double, 3> trial{};
         double trialRes = 0;
@@ -178,7 +182,8 @@ VolumeInversion VolumeInverter::operator()(const Vec3<double>& p) const {
             for (int d = 0; d < 3; ++d) trial[d] = clampTo(r.xi[d] + alpha * step[d], lo[d], hi[d]);
             evaluateJacobian(v, trial[0], trial[1], trial[2], trialP, trialJ);
             trialRes = (p - trialP).norm();
-            if (trialRes < r.residual * (1.0 - 1e-4 * alpha) || trialRes <= options_.tolerance) {
+            if (trialRes * trialRes <= r.residual * r.residual - 1e-4 * alpha * predicted ||
+                trialRes <= options_.tolerance) {
                 accepted = true;
                 break;
             }

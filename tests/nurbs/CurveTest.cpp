@@ -47,8 +47,11 @@ TEST(Curve, DerivativesAgreeWithComplexStep) {
 
 TEST(Curve, EndsInterpolateAndBatchedMatchesSingle) {
     std::mt19937 rng(9);
+    // Polynomial: the ends are the end control points exactly; rational: to round-off (w P / w).
+    const Curve<double> poly = test::randomCurve(rng, 3, 9, false);
+    EXPECT_EQ(evaluate(poly, 0.0), Vec3<double>(poly.points[0], poly.points[1], poly.points[2]));
+    EXPECT_EQ(evaluate(poly, 1.0), Vec3<double>(poly.points[24], poly.points[25], poly.points[26]));
     const Curve<double> c = test::randomCurve(rng, 3, 9, true);
-    EXPECT_EQ(evaluate(c, 0.0), Vec3<double>(c.points[0], c.points[1], c.points[2]));
     const Vec3<double> end = evaluate(c, 1.0);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(end[k], c.points[3 * 8 + k], 1e-15);
     std::vector<double> us(5000), out(3 * us.size());
