@@ -11,6 +11,18 @@ namespace aero::nurbs {
 template <class T>
 using Vec3 = Eigen::Matrix<T, 3, 1>;
 
+/// a . b and a x b without conjugation. For complex scalars Eigen's dot() conjugates its first
+/// argument and cross() its result, which breaks complex-step differentiation: templated code
+/// must use these.
+template <class T>
+T plainDot(const Vec3<T>& a, const Vec3<T>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+template <class T>
+Vec3<T> plainCross(const Vec3<T>& a, const Vec3<T>& b) {
+    return Vec3<T>(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+}
+
 /// A NURBS curve. points holds 3*count coordinates (x0,y0,z0,x1,...); weights is empty for
 /// a polynomial B-spline or holds count positive weights.
 template <class T>
