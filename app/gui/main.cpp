@@ -1,0 +1,140 @@
+// aeroform: the desktop application (and `--batch`, its headless entry point).
+//
+//   aeroform [FILE]                      open FILE (.json, .igs, .iges), or the sample
+//   aeroform --sample                    open the half-sphere sample
+//   aeroform --screenshot OUT.png [FILE] open, render, save the viewport, exit
+//   aeroform --batch FILE                headless run (no Qt application, no window)
+//
+// Exit codes: 0 success, 1 failure of the work (bad input, cannot write), 2 usage error.
+#include <QApplication>
+#include <QElapsedTimer>
+#include <QSurfaceFormat>
+#include <QWindow>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "MainWindow.h"
+#include "VtkViewport.h"
+#include "cli/Commands.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "Usage: aeroform [FILE]\n"
+    "       aeroform --sample\n"
+    "       aeroform --screenshot OUT.png [FILE | --sample]\n"
+    "       aeroform --batch FILE\n"
+    "\n"
+    "Aeroform: NURBS / free-form deformation aerodynamic shape design.\n"
+    "\n"
+    "  FILE               patch set to open: Aeroform JSON (.json) or IGES (.igs, .iges);\n"
+    "                     without FILE the half-sphere sample is shown\n"
+    "  --sample           open the half-sphere sample (20 bicubic patches)\n"
+    "  --screenshot OUT   open FILE (or the sample), render it, save the viewport as OUT\n"
+    "                     (PNG or JPEG by suffix) and exit; needs a display (e.g. xvfb-run)\n"
+    "  --batch FILE       run FILE headless, without any window (see aeroform-cli)\n"
+    "  -h, --help         show this help\n"
+    "\n"
+    "Qt options (e.g. -platform, -style) are accepted as well.\n";
+
+int usageError(const std::string& message) {
+    std::fprintf(stderr, "aeroform: %s\n\n%s", message.c_str(), kUsage);
+    return 2;
+}
+
+struct GuiOptions {
+    QString file;
+    QString screenshot;
+    bool sample = false;
+};
+
+// Parses the arguments left after QApplication removed its own. Returns -1 to go on, or an
+// exit code.
+int parseGuiOptions(const QStringList& args, GuiOptions& o) {
+    for (qsizetype i = 1; i < args.size(); ++i) {
+        const QString& a = args[i];
+        if (a == QLatin1String("--sample")) {
+            o.sample = true;
+        } else if (a == QLatin1String("--screenshot")) {
+            if (i + 1 >= args.size()) return usageError("--screenshot needs an output file");
+            o.screenshot = args[++i];
+        } else if (a.startsWith(QLatin1Char('-')) && a != QLatin1String("-")) {
+            return usageError("unknown option '" + a.toStdString() + "'");
+        } else if (o.file.isEmpty()) {
+            o.file = a;
+        } else {
+            return usageError("more than one FILE given");
+        }
+    }
+    if (o.sample && !o.file.isEmpty()) return usageError("give either FILE or --sample");
+    return -1;
+}
+
+// Shows the window, loads, waits until the window is exposed and has rendered, saves the
+// viewport. Loading after show() lets the camera fit the final viewport size.
+int runScreenshot(QApplication& app, aero::ui::MainWindow& window, const GuiOptions& o) {
+    window.show();
+    QElapsedTimer timer;
+    timer.start();
+    auto waitUntil = [&](auto done) {
+        while (!done() && timer.elapsed() < 10000) app.processEvents(QEventLoop::AllEvents, 50);
+    };
+    waitUntil([&] { return window.windowHandle() && window.windowHandle()->isExposed(); });
+    QString error;
+    const bool loaded =
+        o.file.isEmpty() ? window.loadSample(&error) : window.loadFile(o.file, &error);
+    if (!loaded) {
+        std::fprintf(stderr, "aeroform: %s\n", qPrintable(error));
+        return 1;
+    }
+    waitUntil([&] { return window.viewport()->renderedFrames() > 0; });
+    if (!window.saveScreenshot(o.screenshot, &error)) {
+        std::fprintf(stderr, "aeroform: %s\n", qPrintable(error));
+        return 1;
+    }
+    std::fprintf(stderr, "aeroform: wrote %s\n", qPrintable(o.screenshot));
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // Options that must not create a Qt application are handled before it exists.
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+            std::fputs(kUsage, stdout);
+            return 0;
+        }
+    }
+    if (argc >= 2 && std::strcmp(argv[1], "--batch") == 0) {
+        if (argc != 3) return usageError("--batch takes exactly one FILE and no other option");
+        return aero::app::runBatch(argv[2]);
+    }
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--batch") == 0)
+            return usageError("--batch must come first and alone: aeroform --batch FILE");
+
+    // VTK needs an OpenGL 3.2 core context: the default format must be set before the
+    // QApplication (and with it the first context) exists.
+    QSurfaceFormat::setDefaultFormat(aero::ui::VtkViewport::defaultFormat());
+    QApplication app(argc, argv);
+    QApplication::setApplicationName(QStringLiteral("Aeroform"));
+    QApplication::setApplicationVersion(QStringLiteral("0.1.0"));
+
+    GuiOptions options;
+    if (const int code = parseGuiOptions(QApplication::arguments(), options); code >= 0)
+        return code;
+
+    aero::ui::MainWindow window;
+    window.resize(1200, 800);
+
+    if (!options.screenshot.isEmpty()) return runScreenshot(app, window, options);
+
+    window.show();
+    if (options.file.isEmpty())
+        window.openSample();
+    else
+        window.openFile(options.file);
+    return QApplication::exec();
+}

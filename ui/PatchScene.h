@@ -1,0 +1,69 @@
+#pragma once
+// The VTK representation of a patch set: three actors added to one renderer,
+//   surfaces       every patch sampled on a structured grid, smooth-shaded with analytic
+//                  normals (Su x Sv), each patch oriented away from the set's centre;
+//   patch edges    the four boundary curves of every patch, dark lines;
+//   control nets   control points and the lines of each net (hidden by default).
+// No VTK type is exposed here beyond the renderer it draws into.
+//
+// GUI thread only. The scene does not render by itself: after changing it, ask the viewport
+// for a render. Removing actors releases their GL resources, so destroy the scene while its
+// viewport's context can be made current (see MainWindow).
+#include <array>
+#include <memory>
+
+#include "geometry/PatchSet.h"
+
+class vtkCamera;
+class vtkRenderer;
+
+namespace aero::ui {
+
+struct PatchSceneOptions {
+    int surfaceSamples = 33;  // grid points per direction and patch (>= 2)
+    int edgeSamples = 65;     // points per boundary curve (>= 2)
+    bool tintPatches = true;  // vary the lightness of neighbouring patches slightly
+};
+
+class PatchScene {
+  public:
+    /// Adds the (empty) actors to `renderer`, which must outlive the scene.
+    explicit PatchScene(vtkRenderer* renderer, PatchSceneOptions options = {});
+    ~PatchScene();  // removes the actors from the renderer
+    PatchScene(const PatchScene&) = delete;
+    PatchScene& operator=(const PatchScene&) = delete;
+
+    /// Replaces the displayed geometry with `set` (copied into VTK arrays; the set is not kept).
+    /// Throws GeometryError (libcore) if the set is invalid; the scene is unchanged then.
+    void setPatchSet(const geometry::PatchSet& set);
+    /// Shows nothing.
+    void clear();
+
+    void setSurfacesVisible(bool visible);
+    void setEdgesVisible(bool visible);
+    void setControlNetsVisible(bool visible);
+    bool surfacesVisible() const;
+    bool edgesVisible() const;
+    bool controlNetsVisible() const;
+
+    int patchCount() const;
+    int controlPointCount() const;  // non-unique, as geometry::PatchSet::controlPointCount()
+    bool empty() const { return patchCount() == 0; }
+
+    /// Axis-aligned bounds {xmin, xmax, ymin, ymax, zmin, zmax} of the sampled surfaces and
+    /// control nets; all zero when empty.
+    std::array<double, 6> bounds() const;
+
+    /// Points `camera` along `viewDirection` (from the camera towards the scene) with
+    /// `viewUp`, centred on what is visible on screen, at the distance where the projected
+    /// surfaces (and control nets, if shown) fill the share `fill` of the smaller side of a
+    /// viewport of width/height `aspect`. Keeps the camera's view angle. No-op when empty.
+    void fitCamera(vtkCamera* camera, double aspect, const std::array<double, 3>& viewDirection,
+                   const std::array<double, 3>& viewUp, double fill = 0.8) const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> d_;
+};
+
+}  // namespace aero::ui

@@ -1,0 +1,77 @@
+#pragma once
+// A Qt6 QOpenGLWidget that hosts a VTK 9.1 scene (Debian's VTK::GUISupportQt is Qt5-only).
+//
+// The widget owns a vtkGenericOpenGLRenderWindow that draws with the widget's own OpenGL
+// context: VTK renders into its offscreen framebuffers inside paintGL() and blits the result
+// into the framebuffer object QOpenGLWidget has bound for that paint. Qt mouse, wheel, key,
+// enter/leave and resize events are forwarded to a vtkGenericRenderWindowInteractor with a
+// trackball-camera style; the interactor's render requests become QWidget::update() calls.
+//
+// Threading: GUI thread only (VTK objects included). Anyone who changes the scene calls
+// requestRender() (or update()); rendering happens in the next paintGL().
+#include <QOpenGLWidget>
+#include <QSurfaceFormat>
+#include <memory>
+
+class vtkRenderer;
+class vtkGenericOpenGLRenderWindow;
+class vtkRenderWindowInteractor;
+
+namespace aero::ui {
+
+class VtkViewport : public QOpenGLWidget {
+    Q_OBJECT
+
+  public:
+    explicit VtkViewport(QWidget* parent = nullptr);
+    ~VtkViewport() override;
+
+    /// The surface format VTK needs: OpenGL 3.2 core profile, depth 24, stencil 8, RGBA8 and
+    /// no multisampling on the Qt side (VTK cannot blit into a multisampled framebuffer; it
+    /// does its own MSAA). Set it with QSurfaceFormat::setDefaultFormat() before the
+    /// QApplication is constructed.
+    static QSurfaceFormat defaultFormat();
+
+    /// The scene's main renderer (owned by the viewport; valid for its lifetime).
+    vtkRenderer* renderer() const;
+    vtkGenericOpenGLRenderWindow* renderWindow() const;
+    vtkRenderWindowInteractor* interactor() const;
+
+    /// Schedules a repaint (the scene renders in the next paintGL()).
+    void requestRender();
+
+    /// The current frame as an image in device pixels (renders first if needed). Null image
+    /// if the widget has no OpenGL context yet (never shown).
+    QImage grabImage();
+
+    /// Number of frames VTK has rendered so far (for tests and diagnostics).
+    int renderedFrames() const;
+
+    void setOrientationAxesVisible(bool visible);
+    bool orientationAxesVisible() const;
+
+    QSize sizeHint() const override { return {900, 650}; }
+
+  protected:
+    void initializeGL() override;
+    void resizeGL(int w, int h) override;
+    void paintGL() override;
+
+    void mousePressEvent(QMouseEvent* e) override;
+    void mouseReleaseEvent(QMouseEvent* e) override;
+    void mouseDoubleClickEvent(QMouseEvent* e) override;
+    void mouseMoveEvent(QMouseEvent* e) override;
+    void wheelEvent(QWheelEvent* e) override;
+    void keyPressEvent(QKeyEvent* e) override;
+    void keyReleaseEvent(QKeyEvent* e) override;
+    void enterEvent(QEnterEvent* e) override;
+    void leaveEvent(QEvent* e) override;
+
+  private:
+    void releaseGraphics();
+
+    struct Impl;
+    std::unique_ptr<Impl> d_;
+};
+
+}  // namespace aero::ui
