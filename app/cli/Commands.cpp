@@ -1,75 +1,19 @@
 #include "cli/Commands.h"
 
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <iostream>
 #include <nlohmann/json.hpp>
-#include <map>
-#include <set>
-#include <vector>
 
-#include "cad/Iges.h"
-#include "common/Error.h"
+#include "cli/CliSupport.h"
 #include "geometry/HalfSphere.h"
 #include "geometry/Topology.h"
-#include "io/PatchSetJson.h"
+#include "io/CaseFile.h"
 
 namespace aero::app {
 
 namespace {
 
-constexpr int kOk = 0, kFailed = 1, kUsage = 2;
-
-using Args = std::vector<std::string>;
-
-bool hasFlag(const Args& a, const char* flag) {
-    for (const auto& s : a) {
-        if (s == flag) return true;
-    }
-    return false;
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::string extension(const std::string& path) {
-    const auto dot = path.find_last_of('.');
-    const auto slash = path.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    return lower(path.substr(dot + 1));
-}
-
-// Reads a patch set from .json (native) or .igs/.iges; other extensions are sniffed.
-geometry::PatchSet loadPatchSet(const std::string& path) {
-    std::string ext = extension(path);
-    if (ext != "json" && ext != "igs" && ext != "iges") {
-        std::ifstream in(path);
-        if (!in) throw InputError("cannot open geometry file '" + path + "'");
-        char c = ' ';
-        while (in.get(c) && std::isspace(static_cast<unsigned char>(c))) {
-        }
-        ext = (c == '{') ? "json" : "igs";
-    }
-    if (ext == "json") return io::readPatchSetJson(path);
-    return cad::readIges(path);
-}
-
-void savePatchSet(const geometry::PatchSet& set, const std::string& path) {
-    const std::string ext = extension(path);
-    if (ext == "json") {
-        io::writePatchSetJson(set, path);
-    } else if (ext == "igs" || ext == "iges") {
-        cad::writeIges(set, path);
-    } else {
-        throw InputError("output file '" + path + "': unknown extension (use .json, .igs or .iges)");
-    }
-}
 
 struct GeometryInfo {
     nlohmann::ordered_json json;
@@ -127,48 +71,6 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
     std::snprintf(buf, sizeof buf, "largest edge gap %.3e\n", adj.maxGap);
     t += buf;
     return info;
-}
-
-// Runs fn, turning libcore's exceptions into a message on stderr and exit code 1.
-template <class Fn>
-int guarded(const char* command, Fn&& fn) {
-    try {
-        return fn();
-    } catch (const Error& e) {
-        std::cerr << "aeroform-cli " << command << ": error: " << e.what() << "\n";
-        return kFailed;
-    } catch (const std::exception& e) {
-        std::cerr << "aeroform-cli " << command << ": internal error: " << e.what() << "\n";
-        return kFailed;
-    }
-}
-
-int usageError(const char* command, const std::string& why, const char* help) {
-    std::cerr << "aeroform-cli " << command << ": " << why << "\n\n" << help;
-    return kUsage;
-}
-
-// Checks that every argument is a known flag or one of the expected positionals.
-bool parse(const Args& args, const std::set<std::string>& flags, const std::set<std::string>& valued,
-           std::vector<std::string>& positional, std::map<std::string, std::string>& values, std::string& error) {
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (valued.count(a)) {
-            if (i + 1 >= args.size()) {
-                error = "option " + a + " needs a value";
-                return false;
-            }
-            values[a] = args[++i];
-        } else if (flags.count(a)) {
-            values[a] = "1";
-        } else if (a.size() > 1 && a[0] == '-') {
-            error = "unknown option '" + a + "'";
-            return false;
-        } else {
-            positional.push_back(a);
-        }
-    }
-    return true;
 }
 
 const char* kInfoHelp =
@@ -295,6 +197,7 @@ const char* kMainHelp =
     "  info FILE [--json]             patches, control points, bounding box, edge gaps\n"
     "  sample half-sphere -o FILE     generate the paper's half-sphere sample\n"
     "  convert IN -o OUT              IGES <-> native JSON, exact\n"
+    "  deform CASE [--json]           embed in FFD lattices, deform, check, write IGES + VTK\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
 
@@ -318,19 +221,25 @@ int runCli(int argc, char** argv) {
     if (cmd == "info") return cmdInfo(args);
     if (cmd == "sample") return cmdSample(args);
     if (cmd == "convert") return cmdConvert(args);
+    if (cmd == "deform") return cmdDeform(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }
 
 int runBatch(const std::string& path) {
+    // A case file runs the whole case (today: the first FFD level); a geometry file is reported.
+    if (io::looksLikeCase(path)) {
+        std::fprintf(stderr, "[batch] case %s\n", path.c_str());
+        return runDeform(path, false, false);
+    }
     return guarded("batch", [&] {
         const auto t0 = std::chrono::steady_clock::now();
-        std::cerr << "[batch] reading " << path << "\n";
+        std::fprintf(stderr, "[batch] reading %s\n", path.c_str());
         const geometry::PatchSet set = loadPatchSet(path);
         const GeometryInfo info = describeGeometry(path, set);
         std::cout << info.text;
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::cerr << "[batch] done in " << s << " s\n";
+        std::fprintf(stderr, "[batch] done in %.3f s\n", s);
         return kOk;
     });
 }

@@ -48,7 +48,7 @@ int DesignSpace::addStations(const StationSpec& spec) {
         }
         stations_.push_back(std::move(st));
     }
-    const std::string prefix = "L" + std::to_string(spec.lattice) + ".S";
+    const std::string prefix = (spec.prefix.empty() ? "L" + std::to_string(spec.lattice) : spec.prefix) + ".S";
     for (int s = 0; s < nStations; ++s) {
         const int sid = first + s;
         const std::string sname = prefix + std::to_string(s);
@@ -108,14 +108,19 @@ int DesignSpace::addStations(const StationSpec& spec) {
     return size() - before;
 }
 
-void DesignSpace::addPointCoordinate(int lattice, int point, int axis, double lower, double upper) {
+void DesignSpace::addPointCoordinate(int lattice, int point, int axis, double lower, double upper,
+                                     const std::string& prefix) {
     if (lattice < 0 || lattice >= static_cast<int>(lattices_.size()) || point < 0 ||
         point >= lattices_[lattice].controlCount() || axis < 0 || axis > 2) {
         throw CaseError("design variable: no lattice point " + std::to_string(point) + " / axis " +
                         std::to_string(axis) + " in lattice " + std::to_string(lattice));
     }
+    if (!(lower <= 0.0 && 0.0 <= upper)) {
+        throw CaseError("design variable on lattice point " + std::to_string(point) + ": bounds [" +
+                        std::to_string(lower) + ", " + std::to_string(upper) + "] must contain 0 (the baseline)");
+    }
     DesignVariable d;
-    d.name = "L" + std::to_string(lattice) + ".P" + std::to_string(point) + "." + kAxis[axis];
+    d.name = (prefix.empty() ? "L" + std::to_string(lattice) : prefix) + ".P" + std::to_string(point) + "." + kAxis[axis];
     d.kind = VariableKind::PointCoordinate;
     d.lattice = lattice;
     d.point = point;

@@ -36,6 +36,7 @@ struct DesignVariable {
 /// spanwise lattice direction). bits[s] is the paper's translation bit string of station s,
 /// "zyx" (rightmost = X): "011" translates in X and Y.
 struct StationSpec {
+    std::string prefix;   // variable-name prefix (the lattice's name); "L<lattice>" if empty
     int lattice = 0;
     int direction = 1;
     std::vector<std::string> bits;  // one per station; empty: no translations
@@ -64,8 +65,10 @@ public:
     /// Adds the station variables of `spec`; returns the number added. Throws CaseError on a
     /// bad lattice index, direction, axis or bit string (naming it).
     int addStations(const StationSpec& spec);
-    /// Adds one plain variable moving point `point` of `lattice` along world `axis`.
-    void addPointCoordinate(int lattice, int point, int axis, double lower, double upper);
+    /// Adds one plain variable moving point `point` of `lattice` along world `axis`; its name is
+    /// "<prefix>.P<point>.<axis>" ("L<lattice>" if prefix is empty).
+    void addPointCoordinate(int lattice, int point, int axis, double lower, double upper,
+                            const std::string& prefix = "");
 
     int size() const { return static_cast<int>(variables_.size()); }
     const std::vector<DesignVariable>& variables() const { return variables_; }

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -117,4 +118,84 @@ TEST(Cli, UsageErrorsExitWith2AndHelpWorksEverywhere) {
         EXPECT_EQ(r.code, 0) << cmd;
         EXPECT_NE(r.out.find("usage:"), std::string::npos) << cmd;
     }
+}
+
+namespace {
+
+// Outputs of a case resolve against the case file's folder (the test output folder).
+std::string outputPath(const std::string& rel) { return std::string(AEROFORM_TEST_OUTPUT_DIR) + "/" + rel; }
+
+std::string writeCase(const std::string& name, const std::string& body) {
+    const std::string path = tmp(name);
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": ")" << kSamples << "/half_sphere.igs\", " << body
+                        << "}";
+    return path;
+}
+
+}  // namespace
+
+TEST(Cli, DeformTheSampleCaseWritesExactGeometryAndVtk) {
+    const std::string c = writeCase("bwb.json", R"(
+        "lattices": [{"name": "body", "counts": [6, 6, 2], "degrees": [3, 3, 1], "padding": [0.05, 0.0, 0.05]}],
+        "design_variables": {"stations": [{"lattice": "body", "direction": 1, "bits": ["001","011","011","011","011","011"],
+                                           "translation_bound": 3}]},
+        "values": {"body.S5.ty": 1.5, "body.S4.ty": 0.8, "body.S5.taperx": 0.6},
+        "constraints": {"station_gap": 0.05, "min_volume": "initial"},
+        "output": {"geometry": "cli_deformed/bwb.igs", "vtk": "cli_deformed/bwb.vtm"})");
+    const Result r = run("deform '" + c + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["embedded_points"], 521);
+    EXPECT_EQ(j["points_outside"], 0);
+    EXPECT_EQ(j["design_variables"], 89);
+    EXPECT_LE(j["max_embedding_error"].get<double>(), 1e-12);
+    EXPECT_TRUE(j["injective"].get<bool>());
+    EXPECT_GT(j["min_jacobian"].get<double>(), 0.0);
+    EXPECT_GT(j["volume"].get<double>(), j["initial_volume"].get<double>());
+    EXPECT_EQ(j["constraints"]["symmetry_max_offset"], 0.0);
+    EXPECT_EQ(j["constraints"]["station_gap_violations"], 0);
+    // The deformed IGES holds the same patch structure, stretched spanwise.
+    const Result info = run("info '" + outputPath("cli_deformed/bwb.igs") + "' --json");
+    ASSERT_EQ(info.code, 0) << info.err;
+    const auto ji = nlohmann::json::parse(info.out);
+    EXPECT_EQ(ji["patches"], 20);
+    EXPECT_EQ(ji["max_edge_gap"], 0.0);
+    EXPECT_GT(ji["bbox"]["max"][1].get<double>(), 2.0);
+    EXPECT_FALSE(slurp(outputPath("cli_deformed/bwb.vtm")).empty());
+}
+
+TEST(Cli, DeformRefusesAFoldedLatticeAndWritesNothing) {
+    std::filesystem::remove_all(outputPath("cli_fold"));
+    const std::string c = writeCase("fold.json", R"(
+        "lattices": [{"name": "body", "counts": [6, 6, 2], "degrees": [3, 3, 1]}],
+        "displacements": [{"index": [2, 2, 0], "delta": [1.5, 0, 0]}, {"index": [2, 2, 1], "delta": [1.5, 0, 0]},
+                          {"index": [2, 3, 0], "delta": [1.5, 0, 0]}, {"index": [2, 3, 1], "delta": [1.5, 0, 0]}],
+        "output": {"geometry": "cli_fold/out.igs"})");
+    const Result r = run("deform '" + c + "' --json");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("not injective"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("fold.json"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty());
+    EXPECT_FALSE(std::filesystem::exists(outputPath("cli_fold/out.igs")));
+}
+
+TEST(Cli, DeformReportsPointsOutsideTheLattice) {
+    const std::string body = R"("lattices": [{"box": {"origin": [-1.1, -0.1, -1.1], "size": [2.2, 1.2, 1.6]}}])";
+    Result r = run("deform '" + writeCase("outside.json", body) + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("outside every lattice"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("allow_outside"), std::string::npos) << r.err;
+    r = run("deform '" + writeCase("outside_ok.json", body + R"(, "embedding": {"allow_outside": true})") + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_GT(j["points_outside"].get<int>(), 0);
+    EXPECT_EQ(j["embedded_points"].get<int>() + j["points_outside"].get<int>(), 521);
+}
+
+TEST(Cli, DeformCaseErrorsNameTheKey) {
+    const Result r = run("deform '" + writeCase("badkey.json", R"("lattices": [{"counts": [6, 6, 2], "degree": [3, 3, 1]}])") + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("lattices[0].degree: unknown key"), std::string::npos) << r.err;
+    EXPECT_EQ(run("deform").code, 2);
+    EXPECT_EQ(run("deform --help").code, 0);
 }

@@ -1,0 +1,86 @@
+#include "cli/CliSupport.h"
+
+#include <cctype>
+#include <fstream>
+
+#include "cad/Iges.h"
+#include "io/PatchSetJson.h"
+
+namespace aero::app {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+}  // namespace
+
+bool hasFlag(const Args& a, const char* flag) {
+    for (const auto& s : a) {
+        if (s == flag) return true;
+    }
+    return false;
+}
+
+std::string extension(const std::string& path) {
+    const auto dot = path.find_last_of('.');
+    const auto slash = path.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    return lower(path.substr(dot + 1));
+}
+
+geometry::PatchSet loadPatchSet(const std::string& path) {
+    std::string ext = extension(path);
+    if (ext != "json" && ext != "igs" && ext != "iges") {
+        std::ifstream in(path);
+        if (!in) throw InputError("cannot open geometry file '" + path + "'");
+        char c = ' ';
+        while (in.get(c) && std::isspace(static_cast<unsigned char>(c))) {
+        }
+        ext = (c == '{') ? "json" : "igs";
+    }
+    if (ext == "json") return io::readPatchSetJson(path);
+    return cad::readIges(path);
+}
+
+void savePatchSet(const geometry::PatchSet& set, const std::string& path) {
+    const std::string ext = extension(path);
+    if (ext == "json") {
+        io::writePatchSetJson(set, path);
+    } else if (ext == "igs" || ext == "iges") {
+        cad::writeIges(set, path);
+    } else {
+        throw InputError("output file '" + path + "': unknown extension (use .json, .igs or .iges)");
+    }
+}
+
+int usageError(const char* command, const std::string& why, const char* help) {
+    std::cerr << "aeroform-cli " << command << ": " << why << "\n\n" << help;
+    return kUsage;
+}
+
+bool parse(const Args& args, const std::set<std::string>& flags, const std::set<std::string>& valued,
+           std::vector<std::string>& positional, std::map<std::string, std::string>& values, std::string& error) {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (valued.count(a)) {
+            if (i + 1 >= args.size()) {
+                error = "option " + a + " needs a value";
+                return false;
+            }
+            values[a] = args[++i];
+        } else if (flags.count(a)) {
+            values[a] = "1";
+        } else if (a.size() > 1 && a[0] == '-') {
+            error = "unknown option '" + a + "'";
+            return false;
+        } else {
+            positional.push_back(a);
+        }
+    }
+    return true;
+}
+
+}  // namespace aero::app

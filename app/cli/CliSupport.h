@@ -1,0 +1,53 @@
+#pragma once
+// Shared pieces of the CLI subcommands: exit codes, argument parsing, loading and saving patch
+// sets by extension, and the exception boundary.
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "common/Error.h"
+#include "geometry/PatchSet.h"
+
+namespace aero::app {
+
+constexpr int kOk = 0, kFailed = 1, kUsage = 2;
+
+using Args = std::vector<std::string>;
+
+bool hasFlag(const Args& a, const char* flag);
+std::string extension(const std::string& path);
+
+/// Reads a patch set from .json (native) or .igs/.iges; other extensions are sniffed.
+geometry::PatchSet loadPatchSet(const std::string& path);
+/// Writes .json or .igs/.iges by extension; InputError for anything else.
+void savePatchSet(const geometry::PatchSet& set, const std::string& path);
+
+/// Splits args into positionals and options; `flags` take no value, `valued` take one.
+/// Returns false with `error` set on an unknown option or a missing value.
+bool parse(const Args& args, const std::set<std::string>& flags, const std::set<std::string>& valued,
+           std::vector<std::string>& positional, std::map<std::string, std::string>& values, std::string& error);
+
+int usageError(const char* command, const std::string& why, const char* help);
+
+/// Runs fn, turning libcore's exceptions into a message on stderr and exit code 1.
+template <class Fn>
+int guarded(const char* command, Fn&& fn) {
+    try {
+        return fn();
+    } catch (const Error& e) {
+        std::cerr << "aeroform-cli " << command << ": error: " << e.what() << "\n";
+        return kFailed;
+    } catch (const std::exception& e) {
+        std::cerr << "aeroform-cli " << command << ": internal error: " << e.what() << "\n";
+        return kFailed;
+    }
+}
+
+/// Subcommands implemented in their own files.
+int cmdDeform(const Args& args);
+/// The deform command's work for a case file (also `aeroform --batch CASE`).
+int runDeform(const std::string& casePath, bool json, bool list);
+
+}  // namespace aero::app

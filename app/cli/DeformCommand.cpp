@@ -1,0 +1,209 @@
+// aeroform-cli deform CASE: geometry -> lattices -> embedding -> design variables -> deformed
+// geometry, with injectivity, constraints and outputs (IGES/JSON and VTK for ParaView).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "cli/CliSupport.h"
+#include "ffd/Injectivity.h"
+#include "geometry/EnclosedVolume.h"
+#include "io/CaseFile.h"
+#include "io/GeometryVtk.h"
+
+namespace aero::app {
+
+namespace {
+
+const char* kDeformHelp =
+    "usage: aeroform-cli deform CASE.json [--json] [--list]\n"
+    "\n"
+    "Reads a case (docs/case-file.md): loads its geometry, places the FFD lattices, embeds the\n"
+    "geometry's control points, applies the design-variable values and lattice displacements,\n"
+    "checks the lattices' injectivity and the geometric constraints, and writes the deformed\n"
+    "geometry (IGES or JSON, exact NURBS) and a VTK multiblock for ParaView (sampled patches,\n"
+    "control nets, lattices, with displacement fields).\n"
+    "Fails (exit 1, nothing written) if control points lie outside every lattice (unless the\n"
+    "case sets embedding.allow_outside) or a deformed lattice is not injective.\n"
+    "\n"
+    "  --json    print one JSON summary on stdout (embedded_points, max_embedding_error,\n"
+    "            points_outside, injective, min_jacobian, volume, design_variables, ...)\n"
+    "  --list    list the design variables (name, baseline, bounds, value) and exit\n"
+    "  --help    this text\n";
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void progress(bool quiet, const char* fmt, auto... args) {
+    if (quiet) return;
+    std::fprintf(stderr, "[deform] ");
+    std::fprintf(stderr, fmt, args...);
+    std::fprintf(stderr, "\n");
+}
+
+}  // namespace
+
+int runDeform(const std::string& casePath, bool json, bool list) {
+    return guarded("deform", [&] {
+        const auto t0 = std::chrono::steady_clock::now();
+        const io::CaseFile c = io::readCase(casePath);
+        if (c.lattices.empty()) throw CaseError("'" + casePath + "': lattices: the case defines no FFD lattice");
+        const geometry::PatchSet set = loadPatchSet(c.geometry);
+        progress(list, "geometry %s: %d patches, %d control points", c.geometry.c_str(), set.size(), set.controlPointCount());
+
+        const ffd::FfdModel model = io::buildModel(c, set);
+        const ffd::EmbeddingSummary& emb = model.summary();
+        progress(list, "embedded %d of %d unique control points in %zu lattice(s), max error %.2e, %.3f s", emb.embedded,
+                 emb.unique, model.lattices().size(), emb.maxError, emb.seconds);
+        int outside = 0, notConverged = 0;
+        for (const auto& f : emb.failures) (f.outside ? outside : notConverged) += 1;
+        if (!emb.failures.empty()) {
+            std::fprintf(stderr, "[deform] %d control point(s) outside every lattice, %d not converged:\n", outside, notConverged);
+            for (std::size_t i = 0; i < emb.failures.size() && i < 10; ++i) {
+                const auto& f = emb.failures[i];
+                const double* x = &model.index().points[3 * f.point];
+                std::fprintf(stderr, "  control point (%.6g, %.6g, %.6g) of %s: %s, %.3e away\n", x[0], x[1], x[2],
+                             set.describe(f.patch).c_str(), f.outside ? "outside" : "not converged", f.distance);
+            }
+            if (emb.failures.size() > 10) std::fprintf(stderr, "  ... and %zu more\n", emb.failures.size() - 10);
+            if (!c.allowOutside) {
+                throw GeometryError("'" + casePath + "': " + std::to_string(emb.failures.size()) +
+                                    " control point(s) could not be embedded (enlarge the lattice padding, or set "
+                                    "embedding.allow_outside to keep them fixed)");
+            }
+        }
+        const std::vector<double> v = io::designValues(c, model);
+        if (list) {
+            const auto& vars = model.design().variables();
+            std::printf("%-28s %10s %10s %10s %10s\n", "name", "baseline", "lower", "upper", "value");
+            for (std::size_t i = 0; i < vars.size(); ++i) {
+                std::printf("%-28s %10.4g %10.4g %10.4g %10.4g\n", vars[i].name.c_str(), vars[i].baseline, vars[i].lower,
+                            vars[i].upper, v[i]);
+            }
+            return kOk;
+        }
+
+        const std::vector<ffd::Lattice> moved = io::movedLattices(c, model, v);
+        bool allInjective = true;
+        double minJacobian = std::numeric_limits<double>::infinity();
+        nlohmann::ordered_json lattices = nlohmann::ordered_json::array();
+        std::string failure;
+        for (std::size_t l = 0; l < moved.size(); ++l) {
+            const ffd::InjectivityReport r = ffd::checkInjectivity(moved[l]);
+            allInjective = allInjective && r.injective;
+            minJacobian = std::min(minJacobian, r.relativeMinJacobian);
+            const auto& L = moved[l];
+            lattices.push_back({{"name", model.lattices()[l].name},
+                                {"counts", L.count},
+                                {"degrees", L.degree},
+                                {"injective", r.injective},
+                                {"certified", r.certified},
+                                {"refinements", r.refinements},
+                                {"min_jacobian", r.relativeMinJacobian}});
+            progress(false, "lattice '%s' %dx%dx%d: %s, min det J / mean = %.3g", model.lattices()[l].name.c_str(), L.count[0],
+                     L.count[1], L.count[2], r.injective ? (r.certified ? "injective (certified)" : "injective (sampled)") : "NOT injective",
+                     r.relativeMinJacobian);
+            if (!r.injective && failure.empty()) {
+                char buf[400];
+                std::snprintf(buf, sizeof buf,
+                              "lattice '%s' is not injective: det J changes sign near parameters (%.3f, %.3f, %.3f), world "
+                              "point (%.4g, %.4g, %.4g); the embedded geometry could self-intersect",
+                              model.lattices()[l].name.c_str(), r.minAt[0], r.minAt[1], r.minAt[2], r.minPoint[0], r.minPoint[1],
+                              r.minPoint[2]);
+                failure = buf;
+            }
+        }
+        if (!allInjective) throw GeometryError("'" + casePath + "': " + failure + " (nothing written)");
+
+        const geometry::PatchSet deformed = model.deformWith(moved);
+        const double volume0 = geometry::enclosedVolume(set), volume = geometry::enclosedVolume(deformed);
+        progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
+
+        // Constraints, reported (deform does not enforce them; the optimizer will).
+        nlohmann::ordered_json constraints;
+        if (c.symmetry) {
+            // Measured on the deformed patches (explicit displacements are included there).
+            double off = 0;
+            for (int p = 0; p < set.size(); ++p) {
+                for (std::size_t a = 1; a < set.patches[p].points.size(); a += 3) {
+                    if (set.patches[p].points[a] == 0.0) off = std::max(off, std::abs(deformed.patches[p].points[a]));
+                }
+            }
+            constraints["symmetry_max_offset"] = off;
+        }
+        if (c.stationGap) {
+            const auto gaps = model.stationGapConstraints(*c.stationGap);
+            int violated = 0;
+            for (const auto& g : gaps) {
+                double value = 0;
+                for (std::size_t i = 0; i < v.size(); ++i) value += g.row[i] * v[i];
+                violated += value < g.lower - 1e-12 ? 1 : 0;
+            }
+            constraints["station_gap"] = *c.stationGap;
+            constraints["station_gap_violations"] = violated;
+        }
+        if (c.minVolume) {
+            const double minV = std::isnan(*c.minVolume) ? volume0 : *c.minVolume;
+            constraints["min_volume"] = minV;
+            constraints["volume_ok"] = volume >= minV * (1 - 1e-12);
+        }
+
+        nlohmann::ordered_json outputs = nlohmann::ordered_json::object();
+        if (!c.outputGeometry.empty()) {
+            std::filesystem::create_directories(std::filesystem::path(c.outputGeometry).parent_path());
+            savePatchSet(deformed, c.outputGeometry);
+            outputs["geometry"] = c.outputGeometry;
+            progress(false, "wrote %s", c.outputGeometry.c_str());
+        }
+        if (!c.outputVtk.empty()) {
+            std::filesystem::create_directories(std::filesystem::path(c.outputVtk).parent_path());
+            std::vector<ffd::Lattice> baseLattices;
+            for (const auto& s : model.lattices()) baseLattices.push_back(s.lattice);
+            io::writeVtm(c.outputVtk, io::geometryBlocks(deformed, &set, moved, &baseLattices));
+            outputs["vtk"] = c.outputVtk;
+            progress(false, "wrote %s", c.outputVtk.c_str());
+        }
+
+        if (json) {
+            nlohmann::ordered_json j;
+            j["case"] = casePath;
+            j["geometry"] = c.geometry;
+            j["patches"] = set.size();
+            j["unique_control_points"] = emb.unique;
+            j["embedded_points"] = emb.embedded;
+            j["fixed_points"] = emb.fixed;
+            j["max_embedding_error"] = emb.maxError;
+            j["points_outside"] = outside;
+            j["points_not_converged"] = notConverged;
+            j["design_variables"] = model.design().size();
+            j["injective"] = allInjective;
+            j["min_jacobian"] = minJacobian;
+            j["lattices"] = lattices;
+            j["volume"] = volume;
+            j["initial_volume"] = volume0;
+            j["constraints"] = constraints;
+            j["outputs"] = outputs;
+            j["seconds"] = seconds(t0);
+            std::printf("%s\n", j.dump(2).c_str());
+        }
+        progress(false, "done in %.3f s", seconds(t0));
+        return kOk;
+    });
+}
+
+int cmdDeform(const Args& args) {
+    if (hasFlag(args, "--help") || hasFlag(args, "-h")) {
+        std::printf("%s", kDeformHelp);
+        return kOk;
+    }
+    std::vector<std::string> pos;
+    std::map<std::string, std::string> val;
+    std::string err;
+    if (!parse(args, {"--json", "--list"}, {}, pos, val, err)) return usageError("deform", err, kDeformHelp);
+    if (pos.size() != 1) return usageError("deform", "expected exactly one CASE file", kDeformHelp);
+    return runDeform(pos[0], val.count("--json") > 0, val.count("--list") > 0);
+}
+
+}  // namespace aero::app

@@ -1,0 +1,76 @@
+#pragma once
+// Case files (`aeroform.case`, version 1; schema in docs/case-file.md): geometry, FFD lattices,
+// design variables and their values, lattice displacements, embedding options, constraints and
+// outputs. Reading validates every key and names it in errors (CaseError); building turns a case
+// and its loaded geometry into an FfdModel.
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ffd/FfdModel.h"
+
+namespace aero::io {
+
+struct LatticeCase {
+    std::string name;
+    std::array<int, 3> counts{6, 6, 2};
+    std::array<int, 3> degrees{3, 3, 1};
+    std::array<double, 3> padding{0.05, 0.05, 0.05};
+    std::array<std::array<double, 3>, 3> axes{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    std::optional<ffd::LatticeBox> box;       // explicit box (overrides padding)
+    std::vector<int> patches;                 // owned patches (0-based; all if empty)
+    std::vector<std::pair<int, std::vector<double>>> refine;  // (direction, knots)
+    std::vector<std::pair<int, double>> crease;               // (direction, parameter)
+};
+
+struct PointVariableCase {
+    int lattice = 0;
+    std::array<int, 3> index{0, 0, 0};
+    std::string axes = "xyz";
+    std::array<double, 2> bounds{-0.5, 0.5};
+};
+
+struct DisplacementCase {
+    int lattice = 0;
+    std::array<int, 3> index{0, 0, 0};
+    std::array<double, 3> delta{0, 0, 0};
+};
+
+struct CaseFile {
+    std::string path;       // the case file itself
+    std::string geometry;   // resolved against the case file's folder
+    std::vector<LatticeCase> lattices;
+    std::vector<ffd::StationSpec> stations;
+    std::vector<PointVariableCase> pointVariables;
+    std::map<std::string, double> values;      // design-variable values by name
+    std::vector<DisplacementCase> displacements;
+    ffd::EmbeddingOptions embedding;
+    bool allowOutside = false;
+    bool symmetry = true;                      // report/enforce symmetry across Y = 0
+    std::optional<double> stationGap;          // minimum gap between adjacent stations
+    std::optional<double> minVolume;           // absolute; NaN means "initial volume"
+    std::string outputGeometry;                // deformed IGES/JSON (resolved), empty: none
+    std::string outputVtk;                     // deformed VTK multiblock (.vtm), empty: none
+};
+
+/// Reads and validates a case file; throws InputError (file) or CaseError naming the key.
+CaseFile readCase(const std::string& path);
+CaseFile parseCase(const std::string& text, const std::string& path);
+
+/// True if the file's top-level "format" is "aeroform.case" (cheap sniffing for --batch).
+bool looksLikeCase(const std::string& path);
+
+/// Lattices of the case around `geometry`, and the model with its design variables.
+/// Throws CaseError for references to unknown patches or lattices (naming the key).
+ffd::FfdModel buildModel(const CaseFile& c, const geometry::PatchSet& geometry);
+
+/// Design-variable values of the case (baseline where not given). Throws CaseError naming an
+/// unknown variable or a value outside its bounds.
+std::vector<double> designValues(const CaseFile& c, const ffd::FfdModel& model);
+
+/// The moved lattices: B(v) plus the case's explicit displacements.
+std::vector<ffd::Lattice> movedLattices(const CaseFile& c, const ffd::FfdModel& model, const std::vector<double>& v);
+
+}  // namespace aero::io

@@ -1,0 +1,114 @@
+#include "io/CaseFile.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/Error.h"
+#include "geometry/HalfSphere.h"
+
+using namespace aero;
+
+namespace {
+
+const std::string kHead = R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", )";
+
+void expectCaseError(const std::string& body, const std::string& fragment) {
+    try {
+        io::parseCase(kHead + body + "}", "/cases/c.json");
+        ADD_FAILURE() << "no error, expected: " << fragment;
+    } catch (const CaseError& e) {
+        EXPECT_NE(std::string(e.what()).find("/cases/c.json"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+
+TEST(CaseFile, SampleCaseParsesAndBuildsThePapersModel) {
+    const io::CaseFile c = io::readCase(std::string(AEROFORM_SAMPLES_DIR) + "/half_sphere_ffd.json");
+    EXPECT_EQ(c.geometry, std::string(AEROFORM_SAMPLES_DIR) + "/half_sphere.igs");
+    ASSERT_EQ(c.lattices.size(), 1u);
+    EXPECT_EQ(c.lattices[0].counts, (std::array<int, 3>{6, 6, 2}));
+    EXPECT_EQ(c.lattices[0].degrees, (std::array<int, 3>{3, 3, 1}));
+    ASSERT_TRUE(c.minVolume.has_value());
+    EXPECT_TRUE(std::isnan(*c.minVolume));  // "initial"
+    const ffd::FfdModel m = io::buildModel(c, geometry::makeHalfSphere());
+    EXPECT_EQ(m.design().size(), 89);
+    EXPECT_EQ(m.summary().embedded, 521);
+    EXPECT_EQ(io::designValues(c, m), m.design().baselineValues());
+}
+
+TEST(CaseFile, ValuesAndDisplacementsMoveTheLattice) {
+    const io::CaseFile c = io::parseCase(kHead + R"(
+        "lattices": [{"name": "box", "counts": [4, 4, 3], "degrees": [2, 2, 2]}],
+        "design_variables": {"points": [{"lattice": "box", "index": [1, 2, 1], "axes": "z", "bounds": [-1, 1]}]},
+        "values": {"box.P25.z": 0.25},
+        "displacements": [{"lattice": "box", "index": [3, 3, 2], "delta": [0.1, 0, 0]}]})",
+                                         "/cases/c.json");
+    const ffd::FfdModel m = io::buildModel(c, geometry::makeHalfSphere());
+    ASSERT_EQ(m.design().size(), 1);
+    EXPECT_EQ(m.design().variables()[0].name, "box.P25.z");  // index (1,2,1) of a 4x4x3 lattice
+    const auto v = io::designValues(c, m);
+    const auto moved = io::movedLattices(c, m, v);
+    const auto& B0 = m.lattices()[0].lattice.points;
+    for (std::size_t i = 0; i < B0.size(); ++i) {
+        double expect = B0[i];
+        if (i == 3 * 25 + 2) expect += 0.25;
+        if (i == 3 * (3 + 4 * (3 + 4 * 2))) expect += 0.1;
+        EXPECT_DOUBLE_EQ(moved[0].points[i], expect);
+    }
+}
+
+TEST(CaseFile, BadKeysTypesAndValuesNameTheKey) {
+    expectCaseError(R"("colour": 1)", "colour: unknown key");
+    expectCaseError(R"("lattices": [{"counts": [6, 6]}])", "lattices[0].counts: expected 3 integers");
+    expectCaseError(R"("lattices": [{"counts": [6, 6, 2], "degrees": [3, 3, 2]}])", "lattices[0].counts[2]");
+    expectCaseError(R"("lattices": [{"padding": [0.1, -1, 0]}])", "lattices[0].padding[1]: must be >= 0");
+    expectCaseError(R"("lattices": [{"name": "a"}, {"name": "a"}])", "duplicate lattice name");
+    expectCaseError(R"("lattices": [{"axes": [[1, 0, 0], [1, 0, 0], [0, 0, 1]]}])", "lattices[0].axes: must be orthonormal");
+    expectCaseError(R"("lattices": [{"name": "a"}], "design_variables": {"stations": [{"lattice": "b"}]})",
+                    "design_variables.stations[0].lattice: no lattice named 'b'");
+    expectCaseError(R"("lattices": [{}], "design_variables": {"stations": [{"bits": ["001", "012"]}]})",
+                    "design_variables.stations[0].bits[1]");
+    expectCaseError(R"("lattices": [{}], "design_variables": {"stations": [{"bits": ["001"]}]})", "1 bit strings for 6 stations");
+    expectCaseError(R"("lattices": [{}], "design_variables": {"stations": [{"vertical": "w"}]})",
+                    "design_variables.stations[0].vertical");
+    expectCaseError(R"("lattices": [{}], "displacements": [{"index": [9, 0, 0], "delta": [0, 0, 0]}])", "displacements[0].index[0]");
+    expectCaseError(R"("embedding": {"tolerance": "tight"})", "embedding.tolerance: expected a number");
+    expectCaseError(R"("constraints": {"min_volume": "big"})", "constraints.min_volume");
+    expectCaseError(R"("output": {"vtk": "x.vtk"})", "output.vtk: must end in .vtm");
+    expectCaseError(R"("values": {"a": "b"})", "values.a: expected a number");
+    EXPECT_THROW(io::parseCase(R"({"format": "aeroform.case", "version": 2, "geometry": "g"})", "c.json"), CaseError);
+    EXPECT_THROW(io::parseCase("{", "c.json"), InputError);
+    EXPECT_THROW(io::readCase("/no/such/case.json"), InputError);
+}
+
+TEST(CaseFile, UnknownVariablesAndOutOfBoundsValuesAreRejected) {
+    const std::string body = R"("lattices": [{}], "design_variables": {"stations": [{"bits": ["001","011","011","011","011","011"]}]}, )";
+    const auto set = geometry::makeHalfSphere();
+    {
+        const io::CaseFile c = io::parseCase(kHead + body + R"("values": {"L0.S9.tx": 1}})", "/cases/c.json");
+        const ffd::FfdModel m = io::buildModel(c, set);
+        try {
+            io::designValues(c, m);
+            FAIL();
+        } catch (const CaseError& e) {
+            EXPECT_NE(std::string(e.what()).find("values.L0.S9.tx: no design variable"), std::string::npos) << e.what();
+        }
+    }
+    {
+        const io::CaseFile c = io::parseCase(kHead + body + R"("values": {"L0.S1.ty": 7}})", "/cases/c.json");
+        const ffd::FfdModel m = io::buildModel(c, set);
+        try {
+            io::designValues(c, m);
+            FAIL();
+        } catch (const CaseError& e) {
+            EXPECT_NE(std::string(e.what()).find("values.L0.S1.ty: 7 is outside the bounds [-1, 1]"), std::string::npos) << e.what();
+        }
+    }
+    {
+        const io::CaseFile c = io::parseCase(kHead + R"("lattices": [{"patches": [21]}]})", "/cases/c.json");
+        EXPECT_THROW(io::buildModel(c, set), CaseError);
+    }
+}
