@@ -198,6 +198,7 @@ const char* kMainHelp =
     "  sample half-sphere -o FILE     generate the paper's half-sphere sample\n"
     "  convert IN -o OUT              IGES <-> native JSON, exact\n"
     "  deform CASE [--json]           embed in FFD lattices, deform, check, write IGES + VTK\n"
+    "  mesh CASE [--json]             B-spline volume grid, elasticity move, quality, VTK/Plot3D\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
 
@@ -222,6 +223,7 @@ int runCli(int argc, char** argv) {
     if (cmd == "sample") return cmdSample(args);
     if (cmd == "convert") return cmdConvert(args);
     if (cmd == "deform") return cmdDeform(args);
+    if (cmd == "mesh") return cmdMesh(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }
@@ -230,7 +232,9 @@ int runBatch(const std::string& path) {
     // A case file runs the whole case (today: the first FFD level); a geometry file is reported.
     if (io::looksLikeCase(path)) {
         std::fprintf(stderr, "[batch] case %s\n", path.c_str());
-        return runDeform(path, false, false);
+        // The deepest stage the case asks for: a mesh section runs the mesh level too.
+        const io::CaseFile c = io::readCase(path);
+        return c.mesh.present ? runMesh(path, false) : runDeform(path, false, false);
     }
     return guarded("batch", [&] {
         const auto t0 = std::chrono::steady_clock::now();

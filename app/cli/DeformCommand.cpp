@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/CliSupport.h"
-#include "ffd/Injectivity.h"
 #include "geometry/EnclosedVolume.h"
 #include "io/CaseFile.h"
 #include "io/GeometryVtk.h"
+#include "study/CaseShape.h"
 
 namespace aero::app {
 
@@ -52,30 +52,10 @@ int runDeform(const std::string& casePath, bool json, bool list) {
         if (c.lattices.empty()) throw CaseError("'" + casePath + "': lattices: the case defines no FFD lattice");
         const geometry::PatchSet set = loadPatchSet(c.geometry);
         progress(list, "geometry %s: %d patches, %d control points", c.geometry.c_str(), set.size(), set.controlPointCount());
-
-        const ffd::FfdModel model = io::buildModel(c, set);
-        const ffd::EmbeddingSummary& emb = model.summary();
-        progress(list, "embedded %d of %d unique control points in %zu lattice(s), max error %.2e, %.3f s", emb.embedded,
-                 emb.unique, model.lattices().size(), emb.maxError, emb.seconds);
-        int outside = 0, notConverged = 0;
-        for (const auto& f : emb.failures) (f.outside ? outside : notConverged) += 1;
-        if (!emb.failures.empty()) {
-            std::fprintf(stderr, "[deform] %d control point(s) outside every lattice, %d not converged:\n", outside, notConverged);
-            for (std::size_t i = 0; i < emb.failures.size() && i < 10; ++i) {
-                const auto& f = emb.failures[i];
-                const double* x = &model.index().points[3 * f.point];
-                std::fprintf(stderr, "  control point (%.6g, %.6g, %.6g) of %s: %s, %.3e away\n", x[0], x[1], x[2],
-                             set.describe(f.patch).c_str(), f.outside ? "outside" : "not converged", f.distance);
-            }
-            if (emb.failures.size() > 10) std::fprintf(stderr, "  ... and %zu more\n", emb.failures.size() - 10);
-            if (!c.allowOutside) {
-                throw GeometryError("'" + casePath + "': " + std::to_string(emb.failures.size()) +
-                                    " control point(s) could not be embedded (enlarge the lattice padding, or set "
-                                    "embedding.allow_outside to keep them fixed)");
-            }
-        }
-        const std::vector<double> v = io::designValues(c, model);
         if (list) {
+            // Variables only: no deformation checks needed.
+            const ffd::FfdModel model = io::buildModel(c, set);
+            const std::vector<double> v = io::designValues(c, model);
             const auto& vars = model.design().variables();
             std::printf("%-28s %10s %10s %10s %10s\n", "name", "baseline", "lower", "upper", "value");
             for (std::size_t i = 0; i < vars.size(); ++i) {
@@ -84,40 +64,26 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             }
             return kOk;
         }
-
-        const std::vector<ffd::Lattice> moved = io::movedLattices(c, model, v);
-        bool allInjective = true;
+        const study::CaseShape shape = study::deformCase(c, set, [](const std::string& s) { std::fprintf(stderr, "[deform] %s\n", s.c_str()); });
+        const ffd::FfdModel& model = *shape.model;
+        const ffd::EmbeddingSummary& emb = model.summary();
+        const std::vector<double>& v = shape.values;
+        const std::vector<ffd::Lattice>& moved = shape.moved;
         double minJacobian = std::numeric_limits<double>::infinity();
         nlohmann::ordered_json lattices = nlohmann::ordered_json::array();
-        std::string failure;
         for (std::size_t l = 0; l < moved.size(); ++l) {
-            const ffd::InjectivityReport r = ffd::checkInjectivity(moved[l]);
-            allInjective = allInjective && r.injective;
+            const ffd::InjectivityReport& r = shape.injectivity[l];
             minJacobian = std::min(minJacobian, r.relativeMinJacobian);
-            const auto& L = moved[l];
             lattices.push_back({{"name", model.lattices()[l].name},
-                                {"counts", L.count},
-                                {"degrees", L.degree},
+                                {"counts", moved[l].count},
+                                {"degrees", moved[l].degree},
                                 {"injective", r.injective},
                                 {"certified", r.certified},
                                 {"refinements", r.refinements},
                                 {"min_jacobian", r.relativeMinJacobian}});
-            progress(false, "lattice '%s' %dx%dx%d: %s, min det J / mean = %.3g", model.lattices()[l].name.c_str(), L.count[0],
-                     L.count[1], L.count[2], r.injective ? (r.certified ? "injective (certified)" : "injective (sampled)") : "NOT injective",
-                     r.relativeMinJacobian);
-            if (!r.injective && failure.empty()) {
-                char buf[400];
-                std::snprintf(buf, sizeof buf,
-                              "lattice '%s' is not injective: det J changes sign near parameters (%.3f, %.3f, %.3f), world "
-                              "point (%.4g, %.4g, %.4g); the embedded geometry could self-intersect",
-                              model.lattices()[l].name.c_str(), r.minAt[0], r.minAt[1], r.minAt[2], r.minPoint[0], r.minPoint[1],
-                              r.minPoint[2]);
-                failure = buf;
-            }
         }
-        if (!allInjective) throw GeometryError("'" + casePath + "': " + failure + " (nothing written)");
-
-        const geometry::PatchSet deformed = model.deformWith(moved);
+        const int outside = shape.pointsOutside, notConverged = shape.pointsNotConverged;
+        const geometry::PatchSet& deformed = shape.deformed;
         const double volume0 = geometry::enclosedVolume(set), volume = geometry::enclosedVolume(deformed);
         progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
 
@@ -178,7 +144,7 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             j["points_outside"] = outside;
             j["points_not_converged"] = notConverged;
             j["design_variables"] = model.design().size();
-            j["injective"] = allInjective;
+            j["injective"] = true;  // deformCase throws on a non-injective lattice
             j["min_jacobian"] = minJacobian;
             j["lattices"] = lattices;
             j["volume"] = volume;

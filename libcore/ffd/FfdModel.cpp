@@ -80,11 +80,15 @@ geometry::PatchSet FfdModel::deform(std::span<const double> v) const {
     return deformWith(moved);
 }
 
-geometry::PatchSet FfdModel::deformWith(const std::vector<Lattice>& moved) const {
+std::vector<double> FfdModel::uniqueWith(const std::vector<Lattice>& moved) const {
     std::vector<double> A = index_.points;
     for (std::size_t l = 0; l < specs_.size(); ++l) deformUnique(moved[l], embeddings_[l], A);
+    return A;
+}
+
+geometry::PatchSet FfdModel::deformWith(const std::vector<Lattice>& moved) const {
     geometry::PatchSet out = baseline_;
-    scatter(index_, A, out);
+    scatter(index_, uniqueWith(moved), out);
     return out;
 }
 

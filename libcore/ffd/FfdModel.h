@@ -56,6 +56,8 @@ public:
     geometry::PatchSet deform(std::span<const double> v) const;
     /// Deformed patch set for explicitly moved lattices (one per spec), e.g. a GUI drag.
     geometry::PatchSet deformWith(const std::vector<Lattice>& moved) const;
+    /// The deformed unique control points (3 per point, index() order) for moved lattices.
+    std::vector<double> uniqueWith(const std::vector<Lattice>& moved) const;
 
     /// dA/dv: (3 * unique) x design().size(), exact (Eq. 3 times dB/dv).
     Eigen::SparseMatrix<double> dUniqueDv() const;

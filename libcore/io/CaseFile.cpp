@@ -112,7 +112,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     const Ctx ctx{path};
     ctx.keys(doc, "", {"format", "version", "description", "geometry", "lattices", "design_variables", "values",
-                       "displacements", "embedding", "constraints", "output"});
+                       "displacements", "embedding", "constraints", "mesh", "output"});
     if (!doc.contains("format") || !doc["format"].is_string() || doc["format"] != kFormat) {
         ctx.fail("format", std::string("expected \"") + kFormat + "\"");
     }
@@ -343,14 +343,58 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
             }
         }
     }
+    if (doc.contains("mesh")) {
+        const json& j = doc["mesh"];
+        ctx.keys(j, "mesh", {"level", "farfield_radius", "radial_control_points", "control_wall_spacing", "surface_nodes",
+                             "radial_nodes", "grid_wall_spacing", "refine", "increments", "poisson", "size_stiffening",
+                             "orthogonality_stiffening", "tolerance"});
+        MeshCase& mc = c.mesh;
+        mc.present = true;
+        if (j.contains("level")) {
+            mc.level = ctx.string(j["level"], "mesh.level");
+            if (mc.level != "coarse" && mc.level != "medium" && mc.level != "paper") {
+                ctx.fail("mesh.level", "unknown level '" + mc.level + "' (expected coarse, medium or paper)");
+            }
+            mc.extrusion = mesh::extrusionLevel(mc.level);
+        }
+        auto positive = [&](const char* key, double& out) {
+            if (!j.contains(key)) return;
+            out = ctx.number(j[key], std::string("mesh.") + key);
+            if (!(out > 0)) ctx.fail(std::string("mesh.") + key, "must be positive");
+        };
+        positive("farfield_radius", mc.extrusion.farfieldRadius);
+        if (mc.extrusion.farfieldRadius <= 1) ctx.fail("mesh.farfield_radius", "must exceed 1 body radius");
+        positive("control_wall_spacing", mc.extrusion.controlWallSpacing);
+        positive("grid_wall_spacing", mc.extrusion.gridWallSpacing);
+        positive("refine", mc.extrusion.refine);
+        positive("tolerance", mc.elasticity.tolerance);
+        if (j.contains("radial_control_points")) mc.extrusion.radialControlPoints = ctx.integer(j["radial_control_points"], "mesh.radial_control_points", 4, 1000);
+        if (j.contains("surface_nodes")) mc.extrusion.surfaceNodes = ctx.integer(j["surface_nodes"], "mesh.surface_nodes", 2, 10000);
+        if (j.contains("radial_nodes")) mc.extrusion.radialNodes = ctx.integer(j["radial_nodes"], "mesh.radial_nodes", 2, 10000);
+        if (j.contains("increments")) mc.elasticity.increments = ctx.integer(j["increments"], "mesh.increments", 1, 1000);
+        if (j.contains("poisson")) {
+            mc.elasticity.poisson = ctx.number(j["poisson"], "mesh.poisson");
+            if (!(mc.elasticity.poisson > -1 && mc.elasticity.poisson < 0.5)) ctx.fail("mesh.poisson", "must lie in (-1, 0.5)");
+        }
+        if (j.contains("size_stiffening")) mc.elasticity.sizeStiffening = ctx.number(j["size_stiffening"], "mesh.size_stiffening");
+        if (j.contains("orthogonality_stiffening")) {
+            mc.elasticity.orthogonalityStiffening = ctx.number(j["orthogonality_stiffening"], "mesh.orthogonality_stiffening");
+            if (mc.elasticity.orthogonalityStiffening < 0) ctx.fail("mesh.orthogonality_stiffening", "must be >= 0");
+        }
+    }
     if (doc.contains("output")) {
         const json& o = doc["output"];
-        ctx.keys(o, "output", {"geometry", "vtk"});
+        ctx.keys(o, "output", {"geometry", "vtk", "mesh_vtk", "control_vtk", "plot3d"});
         if (o.contains("geometry")) c.outputGeometry = resolve(path, ctx.string(o["geometry"], "output.geometry"));
-        if (o.contains("vtk")) {
-            c.outputVtk = resolve(path, ctx.string(o["vtk"], "output.vtk"));
-            if (std::filesystem::path(c.outputVtk).extension() != ".vtm") ctx.fail("output.vtk", "must end in .vtm");
-        }
+        auto vtm = [&](const char* key, std::string& out) {
+            if (!o.contains(key)) return;
+            out = resolve(path, ctx.string(o[key], std::string("output.") + key));
+            if (std::filesystem::path(out).extension() != ".vtm") ctx.fail(std::string("output.") + key, "must end in .vtm");
+        };
+        vtm("vtk", c.outputVtk);
+        vtm("mesh_vtk", c.outputMeshVtk);
+        vtm("control_vtk", c.outputControlVtk);
+        if (o.contains("plot3d")) c.outputPlot3d = resolve(path, ctx.string(o["plot3d"], "output.plot3d"));
     }
     return c;
 }

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "ffd/FfdModel.h"
+#include "mesh/Elasticity.h"
+#include "mesh/Extrusion.h"
 
 namespace aero::io {
 
@@ -38,6 +40,14 @@ struct DisplacementCase {
     std::array<double, 3> delta{0, 0, 0};
 };
 
+/// The second FFD level: mesh generation (a named level plus overrides) and movement options.
+struct MeshCase {
+    bool present = false;  // the case has a "mesh" section
+    std::string level = "coarse";
+    mesh::ExtrusionOptions extrusion = mesh::extrusionLevel("coarse");
+    mesh::ElasticityOptions elasticity;
+};
+
 struct CaseFile {
     std::string path;       // the case file itself
     std::string geometry;   // resolved against the case file's folder
@@ -53,6 +63,10 @@ struct CaseFile {
     std::optional<double> minVolume;           // absolute; NaN means "initial volume"
     std::string outputGeometry;                // deformed IGES/JSON (resolved), empty: none
     std::string outputVtk;                     // deformed VTK multiblock (.vtm), empty: none
+    MeshCase mesh;
+    std::string outputMeshVtk;                 // grid with quality fields (.vtm)
+    std::string outputControlVtk;              // control grid b (.vtm)
+    std::string outputPlot3d;                  // grid as multiblock Plot3D (binary .xyz / ASCII .p3d)
 };
 
 /// Reads and validates a case file; throws InputError (file) or CaseError naming the key.

@@ -199,3 +199,40 @@ TEST(Cli, DeformCaseErrorsNameTheKey) {
     EXPECT_EQ(run("deform").code, 2);
     EXPECT_EQ(run("deform --help").code, 0);
 }
+
+TEST(Cli, MeshTheBlendedWingSampleGivesAValidGrid) {
+    // The shipped sample deforms the half-sphere towards a blended-wing-body; the moved grid
+    // must stay valid. Outputs are redirected into the test folder.
+    std::ifstream in(kSamples + "/bwb_deform.json");
+    nlohmann::json c = nlohmann::json::parse(in);
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["output"] = {{"mesh_vtk", "cli_mesh/grid.vtm"}, {"plot3d", "cli_mesh/grid.xyz"}};
+    const std::string path = tmp("bwb_mesh.json");
+    std::ofstream(path) << c.dump();
+    const Result r = run("mesh '" + path + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["blocks"], 20);
+    EXPECT_EQ(j["control_nodes"], 521 * 12);
+    EXPECT_EQ(j["grid_nodes"], 20 * 17 * 17 * 13);
+    EXPECT_EQ(j["increments"], 6);
+    EXPECT_GT(j["cg_iterations"].get<int>(), 0);
+    EXPECT_GT(j["min_jacobian"].get<double>(), 0.0);
+    EXPECT_GT(j["min_scaled_jacobian"].get<double>(), 0.1);
+    EXPECT_EQ(j["non_positive_cells"], 0);
+    EXPECT_TRUE(j["deformed"].get<bool>());
+    EXPECT_TRUE(std::filesystem::exists(outputPath("cli_mesh/grid.xyz")));
+    // Progress goes to stderr, one line per increment.
+    EXPECT_NE(r.err.find("elasticity increment 6/6"), std::string::npos) << r.err;
+}
+
+TEST(Cli, MeshWithoutDeformationAndBatchMode) {
+    const std::string c = writeCase("plain_mesh.json", R"("mesh": {"level": "coarse", "refine": 0.5})");
+    const Result r = run("mesh '" + c + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_FALSE(j["deformed"].get<bool>());
+    EXPECT_EQ(j["grid_nodes"], 20 * 9 * 9 * 7);  // half the intervals of the coarse level
+    EXPECT_EQ(run("mesh '" + writeCase("bad_mesh.json", R"("mesh": {"level": "gigantic"})") + "'").code, 1);
+    EXPECT_EQ(run("mesh '" + writeCase("bad_mesh2.json", R"("mesh": {"poisson": 0.5})") + "'").code, 1);
+}

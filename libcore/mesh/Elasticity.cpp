@@ -1,0 +1,305 @@
+#include "mesh/Elasticity.h"
+
+#include <Eigen/Dense>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCore>
+#include <chrono>
+#include <cmath>
+#include <complex>
+
+#include "common/Error.h"
+
+namespace aero::mesh {
+
+namespace {
+
+// Trilinear shape-function derivatives dN_a/dxi at (xi, eta, zeta) in [-1, 1]^3, VTK corner order.
+constexpr int kCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                               {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+
+void shapeDerivatives(double xi, double eta, double zeta, double dN[8][3]) {
+    for (int a = 0; a < 8; ++a) {
+        const double sx = kCorner[a][0], sy = kCorner[a][1], sz = kCorner[a][2];
+        dN[a][0] = 0.125 * sx * (1 + sy * eta) * (1 + sz * zeta);
+        dN[a][1] = 0.125 * sy * (1 + sx * xi) * (1 + sz * zeta);
+        dN[a][2] = 0.125 * sz * (1 + sx * xi) * (1 + sy * eta);
+    }
+}
+
+// Corner coordinates of control cell (i, j, k) of a block, VTK order.
+void cellCorners(const MultiBlockMesh& m, const ControlBlock& b, int i, int j, int k, double* x, int* nodes) {
+    const int off[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    for (int a = 0; a < 8; ++a) {
+        const int g = b.nodes[b.local(i + off[a][0], j + off[a][1], k + off[a][2])];
+        nodes[a] = g;
+        for (int c = 0; c < 3; ++c) x[3 * a + c] = m.control[3 * static_cast<std::size_t>(g) + c];
+    }
+}
+
+// Volume and minimum scaled corner Jacobian of a hexahedron.
+void cellMetrics(const double* x, double& volume, double& minScaled) {
+    volume = 0;
+    const double g = 1.0 / std::sqrt(3.0);
+    for (int q = 0; q < 8; ++q) {
+        double dN[8][3];
+        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
+        Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+        for (int a = 0; a < 8; ++a) {
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * a + r] * dN[a][c];
+            }
+        }
+        volume += J.determinant();
+    }
+    minScaled = 1.0;
+    // Corner a's three edges go to its neighbours along xi, eta, zeta.
+    const int nb[8][3] = {{1, 3, 4}, {0, 2, 5}, {3, 1, 6}, {2, 0, 7}, {5, 7, 0}, {4, 6, 1}, {7, 5, 2}, {6, 4, 3}};
+    for (int a = 0; a < 8; ++a) {
+        Eigen::Matrix3d E;
+        for (int d = 0; d < 3; ++d) {
+            const double sign = (kCorner[a][d] < 0) ? 1.0 : -1.0;  // edges point into the cell
+            for (int c = 0; c < 3; ++c) E(c, d) = sign * (x[3 * nb[a][d] + c] - x[3 * a + c]);
+            const double len = E.col(d).norm();
+            if (len > 0) E.col(d) /= len;
+        }
+        minScaled = std::min(minScaled, E.determinant());
+    }
+}
+
+}  // namespace
+
+template <class T>
+void hexStiffness(const T* x, T E, double nu, T* K) {
+    for (int i = 0; i < 24 * 24; ++i) K[i] = T(0.0);
+    const T lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    const T mu = E / (2 * (1 + nu));
+    const double g = 1.0 / std::sqrt(3.0);
+    for (int q = 0; q < 8; ++q) {
+        double dN[8][3];
+        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
+        Eigen::Matrix<T, 3, 3> J = Eigen::Matrix<T, 3, 3>::Zero();
+        for (int a = 0; a < 8; ++a) {
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * a + r] * dN[a][c];
+            }
+        }
+        const T det = J.determinant();
+        const Eigen::Matrix<T, 3, 3> Jinv = J.inverse();
+        // Physical gradients G(a, c) = dN_a / dx_c = sum_r dN_a/dxi_r (J^-1)(r, c).
+        T G[8][3];
+        for (int a = 0; a < 8; ++a) {
+            for (int c = 0; c < 3; ++c) {
+                G[a][c] = T(0.0);
+                for (int r = 0; r < 3; ++r) G[a][c] += dN[a][r] * Jinv(r, c);
+            }
+        }
+        // K_ab(i, j) += (lambda G_a,i G_b,j + mu G_a,j G_b,i + mu delta_ij G_a . G_b) det
+        for (int a = 0; a < 8; ++a) {
+            for (int b = 0; b < 8; ++b) {
+                const T dot = G[a][0] * G[b][0] + G[a][1] * G[b][1] + G[a][2] * G[b][2];
+                for (int i = 0; i < 3; ++i) {
+                    for (int j = 0; j < 3; ++j) {
+                        T v = lambda * G[a][i] * G[b][j] + mu * G[a][j] * G[b][i];
+                        if (i == j) v += mu * dot;
+                        K[(3 * a + i) * 24 + 3 * b + j] += v * det;
+                    }
+                }
+            }
+        }
+    }
+}
+
+std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o, double meanVolume) {
+    const ControlBlock& b = m.blocks[block];
+    std::vector<double> E;
+    double x[24];
+    int nodes[8];
+    for (int k = 0; k + 1 < b.count[2]; ++k) {
+        for (int j = 0; j + 1 < b.count[1]; ++j) {
+            for (int i = 0; i + 1 < b.count[0]; ++i) {
+                cellCorners(m, b, i, j, k, x, nodes);
+                double vol = 0, q = 0;
+                cellMetrics(x, vol, q);
+                double e = 1.0;
+                if (vol > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
+                e *= 1.0 + o.orthogonalityStiffening * (1.0 - std::clamp(q, 0.0, 1.0));
+                E.push_back(e);
+            }
+        }
+    }
+    return E;
+}
+
+std::vector<char> boundaryConstraints(const MultiBlockMesh& m) {
+    std::vector<char> c(m.control.size(), 0);
+    for (const ControlBlock& b : m.blocks) {
+        for (int f = 0; f < 6; ++f) {
+            const BoundaryKind kind = b.faces[f].kind;
+            if (kind == BoundaryKind::Interface) continue;
+            const int d = f / 2, fixed = (f % 2 == 0) ? 0 : b.count[d] - 1;
+            const int a1 = (d + 1) % 3, a2 = (d + 2) % 3;
+            for (int t = 0; t < b.count[a2]; ++t) {
+                for (int s = 0; s < b.count[a1]; ++s) {
+                    int ijk[3];
+                    ijk[d] = fixed;
+                    ijk[a1] = s;
+                    ijk[a2] = t;
+                    const std::size_t g = static_cast<std::size_t>(b.nodes[b.local(ijk[0], ijk[1], ijk[2])]);
+                    if (kind == BoundaryKind::Symmetry) {
+                        c[3 * g + 1] = 1;
+                    } else {
+                        c[3 * g] = c[3 * g + 1] = c[3 * g + 2] = 1;
+                    }
+                }
+            }
+        }
+    }
+    return c;
+}
+
+IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
+                                const std::vector<double>& prescribed, const ElasticityOptions& o,
+                                const std::vector<double>* initial) {
+    const int ndof = static_cast<int>(m.control.size());
+    std::vector<int> freeIndex(ndof, -1);
+    int nfree = 0;
+    for (int d = 0; d < ndof; ++d) {
+        if (!constrained[d]) freeIndex[d] = nfree++;
+    }
+    // Mean control-cell volume (the size-stiffening reference).
+    double total = 0;
+    long cells = 0;
+    for (const ControlBlock& b : m.blocks) {
+        double x[24];
+        int nodes[8];
+        for (int k = 0; k + 1 < b.count[2]; ++k) {
+            for (int j = 0; j + 1 < b.count[1]; ++j) {
+                for (int i = 0; i + 1 < b.count[0]; ++i) {
+                    cellCorners(m, b, i, j, k, x, nodes);
+                    double vol = 0, q = 0;
+                    cellMetrics(x, vol, q);
+                    total += vol;
+                    ++cells;
+                }
+            }
+        }
+    }
+    const double meanVolume = total / std::max(1L, cells);
+
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(cells) * 300);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nfree);
+    for (std::size_t bi = 0; bi < m.blocks.size(); ++bi) {
+        const ControlBlock& b = m.blocks[bi];
+        const std::vector<double> E = cellStiffness(m, static_cast<int>(bi), o, meanVolume);
+        double x[24], K[24 * 24];
+        int nodes[8];
+        std::size_t cell = 0;
+        for (int k = 0; k + 1 < b.count[2]; ++k) {
+            for (int j = 0; j + 1 < b.count[1]; ++j) {
+                for (int i = 0; i + 1 < b.count[0]; ++i, ++cell) {
+                    cellCorners(m, b, i, j, k, x, nodes);
+                    hexStiffness<double>(x, E[cell], o.poisson, K);
+                    for (int r = 0; r < 24; ++r) {
+                        const int gr = 3 * nodes[r / 3] + r % 3;
+                        const int fr = freeIndex[gr];
+                        if (fr < 0) continue;
+                        for (int c = 0; c < 24; ++c) {
+                            const int gc = 3 * nodes[c / 3] + c % 3;
+                            const int fc = freeIndex[gc];
+                            const double v = K[r * 24 + c];
+                            if (fc >= 0) {
+                                triplets.emplace_back(fr, fc, v);
+                            } else {
+                                rhs[fr] -= v * prescribed[gc];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Eigen::SparseMatrix<double> A(nfree, nfree);
+    A.setFromTriplets(triplets.begin(), triplets.end());
+    triplets.clear();
+    triplets.shrink_to_fit();
+
+    // Incomplete Cholesky in the natural (structured) node order: on the half-sphere control grid
+    // it needs 340 iterations where AMD ordering needs 570 and Jacobi 951, and factors faster.
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                             Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
+        cg;
+    cg.setTolerance(o.tolerance);
+    cg.setMaxIterations(o.maxIterations);
+    cg.compute(A);
+    IncrementResult r;
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(nfree);
+    if (initial) {
+        for (int d = 0; d < ndof; ++d) {
+            if (freeIndex[d] >= 0) x0[freeIndex[d]] = (*initial)[d];
+        }
+    }
+    Eigen::VectorXd sol = (cg.info() == Eigen::Success) ? Eigen::VectorXd(cg.solveWithGuess(rhs, x0)) : x0;
+    r.iterations = static_cast<int>(cg.iterations());
+    r.residual = cg.error();
+    r.converged = cg.info() == Eigen::Success && r.residual <= o.tolerance;
+    r.u.assign(ndof, 0.0);
+    for (int d = 0; d < ndof; ++d) r.u[d] = freeIndex[d] >= 0 ? sol[freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
+    return r;
+}
+
+MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface, const ElasticityOptions& o,
+                           const std::function<void(int, int)>& progress, const std::atomic<bool>* cancel) {
+    const auto t0 = std::chrono::steady_clock::now();
+    MoveReport rep;
+    if (surface.size() != 3 * m.surfaceNode.size()) {
+        throw GeometryError("mesh movement: " + std::to_string(surface.size() / 3) + " surface points for " +
+                            std::to_string(m.surfaceNode.size()) + " wall control nodes");
+    }
+    const std::vector<char> constrained = boundaryConstraints(m);
+    // A0 and the total wall displacement A^(m) - A0.
+    std::vector<double> delta(m.control.size(), 0.0);
+    for (std::size_t u = 0; u < m.surfaceNode.size(); ++u) {
+        for (int c = 0; c < 3; ++c) delta[3 * static_cast<std::size_t>(m.surfaceNode[u]) + c] = surface[3 * u + c] - m.control[3 * static_cast<std::size_t>(m.surfaceNode[u]) + c];
+    }
+    rep.freeDofs = 0;
+    for (char c : constrained) rep.freeDofs += c ? 0 : 1;
+    std::vector<double> previous;
+    for (int inc = 1; inc <= o.increments; ++inc) {
+        if (cancel && cancel->load()) {
+            rep.status = SolveStatus::Cancelled;
+            rep.message = "cancelled after " + std::to_string(inc - 1) + " of " + std::to_string(o.increments) + " increments";
+            break;
+        }
+        // Each increment prescribes 1/m of the wall motion relative to the current grid.
+        std::vector<double> prescribed(m.control.size(), 0.0);
+        for (std::size_t d = 0; d < delta.size(); ++d) prescribed[d] = delta[d] / o.increments;
+        const IncrementResult r = solveElasticity(m, constrained, prescribed, o, previous.empty() ? nullptr : &previous);
+        rep.cgIterations.push_back(r.iterations);
+        rep.residuals.push_back(r.residual);
+        rep.totalIterations += r.iterations;
+        for (std::size_t d = 0; d < m.control.size(); ++d) m.control[d] += r.u[d];
+        previous = r.u;
+        if (progress) progress(inc, o.increments);
+        if (!r.converged) {
+            rep.status = SolveStatus::NotConverged;
+            rep.message = "increment " + std::to_string(inc) + ": PCG stopped at relative residual " + std::to_string(r.residual) +
+                          " after " + std::to_string(r.iterations) + " iterations";
+            break;
+        }
+    }
+    // Wall nodes end exactly on the geometry's control points.
+    if (rep.status == SolveStatus::Converged) {
+        for (std::size_t u = 0; u < m.surfaceNode.size(); ++u) {
+            for (int c = 0; c < 3; ++c) m.control[3 * static_cast<std::size_t>(m.surfaceNode[u]) + c] = surface[3 * u + c];
+        }
+    }
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return rep;
+}
+
+template void hexStiffness<double>(const double*, double, double, double*);
+template void hexStiffness<std::complex<double>>(const std::complex<double>*, std::complex<double>, double,
+                                                  std::complex<double>*);
+
+}  // namespace aero::mesh

@@ -1,0 +1,75 @@
+#pragma once
+// Linear-elasticity movement of the control grid b (Eq. 6-7 of the paper): each control cell of
+// each block is a trilinear hexahedral finite element; K(b^(i-1)) u = f is solved in m
+// increments A^(i) = A0 + i/m (A^(m) - A0) with preconditioned conjugate gradients.
+// Boundary conditions come from the block faces: wall nodes follow the geometry control points,
+// farfield nodes are fixed, symmetry-plane nodes (Y = 0) slide in the plane (u_y = 0).
+#include <atomic>
+#include <functional>
+#include <vector>
+
+#include "mesh/MultiBlock.h"
+
+namespace aero::mesh {
+
+struct ElasticityOptions {
+    double poisson = -0.2;  // the paper's negative Poisson's ratio
+    int increments = 6;     // m
+    double sizeStiffening =
+        1.0;  // E ~ (mean cell volume / cell volume)^sizeStiffening: small cells keep their shape
+    double orthogonalityStiffening =
+        1.0;                   // E *= 1 + c (1 - q), q = min scaled Jacobian of the cell in [0, 1]
+    double tolerance = 1e-10;  // PCG relative residual
+    int maxIterations = 20000;
+};
+
+enum class SolveStatus { Converged, NotConverged, Cancelled, InvalidCell };
+
+struct MoveReport {
+    SolveStatus status = SolveStatus::Converged;
+    std::vector<int> cgIterations;  // per increment
+    std::vector<double> residuals;  // final relative residual per increment
+    int totalIterations = 0;
+    int freeDofs = 0;
+    double seconds = 0;
+    std::string message;  // the reason, when not converged
+};
+
+/// Young's modulus of every control cell of block `b` (in the block's cell order) for grid b.
+std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o,
+                                  double meanVolume);
+
+/// 24x24 stiffness of a trilinear hexahedron with corners x (8 x 3, VTK order: (0,0,0), (1,0,0),
+/// (1,1,0), (0,1,0), then the same at z = 1), Young's modulus E and Poisson's ratio nu; 2x2x2
+/// Gauss. Row-major 24x24 into K; DOFs ordered node-major (3 per corner). Templated for complex
+/// step.
+template <class T>
+void hexStiffness(const T* x, T E, double nu, T* K);
+
+/// Solves one linear-elasticity problem on the current control grid: `prescribed` gives the
+/// displacement (3 per global node) of every constrained DOF (others are ignored and solved for).
+/// `constrained` flags the constrained DOFs (3 per node). Returns the displacement of all DOFs.
+/// `initial` (optional) is a starting guess for the free DOFs.
+struct IncrementResult {
+    std::vector<double> u;
+    int iterations = 0;
+    double residual = 0;
+    bool converged = false;
+};
+IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
+                                const std::vector<double>& prescribed, const ElasticityOptions& o,
+                                const std::vector<double>* initial = nullptr);
+
+/// Flags (3 per node) for the DOFs the face boundary conditions constrain: wall and farfield
+/// nodes fully, symmetry nodes in y.
+std::vector<char> boundaryConstraints(const MultiBlockMesh& m);
+
+/// Moves b so that its surface nodes reach `surface` (3 per unique geometry control point), in
+/// o.increments increments (Eq. 7). `progress(increment, m)` is called after each; `cancel`
+/// stops between increments (status Cancelled, b left at the last completed increment).
+MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface,
+                           const ElasticityOptions& o,
+                           const std::function<void(int, int)>& progress = {},
+                           const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace aero::mesh

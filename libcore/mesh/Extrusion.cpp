@@ -1,0 +1,224 @@
+#include "mesh/Extrusion.h"
+
+#include <cmath>
+
+#include "common/Error.h"
+#include "geometry/Topology.h"
+#include "nurbs/Basis.h"
+
+namespace aero::mesh {
+
+ExtrusionOptions extrusionLevel(const std::string& name) {
+    ExtrusionOptions o;
+    if (name == "coarse") return o;
+    if (name == "medium") {
+        o.radialControlPoints = 18;
+        o.surfaceNodes = 23;
+        o.radialNodes = 29;
+        return o;
+    }
+    if (name == "paper") {
+        o.radialControlPoints = 26;
+        o.surfaceNodes = 31;
+        o.radialNodes = 47;
+        return o;
+    }
+    throw CaseError("mesh.level: unknown level '" + name + "' (expected coarse, medium or paper)");
+}
+
+namespace {
+
+// Geometric distribution: n - 1 intervals from 0 to 1 with first interval `first`.
+std::vector<double> geometricLayers(int n, double first) {
+    std::vector<double> t(n);
+    const int m = n - 1;
+    double lo = 1.0, hi = 10.0;  // growth ratio q with first * (q^m - 1)/(q - 1) = 1
+    auto total = [&](double q) {
+        return std::abs(q - 1) < 1e-12 ? first * m : first * (std::pow(q, m) - 1) / (q - 1);
+    };
+    if (total(1.0) >= 1.0) {
+        for (int k = 0; k < n; ++k) t[k] = static_cast<double>(k) / m;
+        return t;
+    }
+    while (total(hi) < 1.0) hi *= 2;
+    for (int it = 0; it < 200; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (total(mid) < 1.0 ? lo : hi) = mid;
+    }
+    const double q = 0.5 * (lo + hi);
+    double s = 0, d = first;
+    for (int k = 0; k < n; ++k) {
+        t[k] = s;
+        s += d;
+        d *= q;
+    }
+    t[m] = 1.0;
+    return t;
+}
+
+// Clustered grid parameters: zeta(t) = (exp(beta t) - 1) / (exp(beta) - 1) sampled at uniform t,
+// beta chosen so the first interval of the base level is `first`; refinement samples the same
+// function more densely (a true refinement of one analytic grid).
+std::vector<double> clusteredSamples(int baseIntervals, double first, double refine) {
+    auto zeta = [](double beta, double t) {
+        return beta < 1e-9 ? t : std::expm1(beta * t) / std::expm1(beta);
+    };
+    const double t1 = 1.0 / baseIntervals;
+    double beta = 0;
+    if (first < t1) {
+        double lo = 1e-9, hi = 1.0;
+        while (zeta(hi, t1) > first) hi *= 2;
+        for (int it = 0; it < 200; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (zeta(mid, t1) > first ? lo : hi) = mid;
+        }
+        beta = 0.5 * (lo + hi);
+    }
+    const int n = std::max(1, static_cast<int>(std::lround(baseIntervals * refine)));
+    std::vector<double> s(n + 1);
+    for (int i = 0; i <= n; ++i) s[i] = (i == n) ? 1.0 : zeta(beta, static_cast<double>(i) / n);
+    return s;
+}
+
+std::vector<double> uniformSamples(int baseIntervals, double refine) {
+    const int n = std::max(1, static_cast<int>(std::lround(baseIntervals * refine)));
+    std::vector<double> s(n + 1);
+    for (int i = 0; i <= n; ++i) s[i] = (i == n) ? 1.0 : static_cast<double>(i) / n;
+    return s;
+}
+
+// Patch edge -> block face: edge 0 (v = v0) is j = 0, 1 (u = u1) is i = max, 2 is j = max, 3 is i =
+// 0.
+constexpr int kEdgeFace[4] = {static_cast<int>(Face::JMin), static_cast<int>(Face::IMax),
+                              static_cast<int>(Face::JMax), static_cast<int>(Face::IMin)};
+
+}  // namespace
+
+MultiBlockMesh extrudeToFarfield(const geometry::PatchSet& set, const ExtrusionOptions& o) {
+    if (o.radialControlPoints < o.radialDegree + 1 || o.radialDegree < 1 || o.surfaceNodes < 2 ||
+        o.radialNodes < 2 || !(o.refine > 0) || !(o.farfieldRadius > 1) ||
+        !(o.controlWallSpacing > 0) || !(o.gridWallSpacing > 0)) {
+        throw CaseError(
+            "mesh: invalid extrusion options (radial control points >= degree + 1, nodes >= 2, "
+            "positive "
+            "spacings and refinement, farfield radius > 1 body radius)");
+    }
+    geometry::validate(set);
+    const geometry::ControlPointIndex idx = geometry::buildControlPointIndex(set, 1e-10);
+    const int nu = idx.uniqueCount(), nk = o.radialControlPoints;
+    // Body centre on the symmetry plane, body radius.
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (int u = 0; u < nu; ++u) {
+        for (int c = 0; c < 3; ++c) {
+            lo[c] = std::min(lo[c], idx.points[3 * u + c]);
+            hi[c] = std::max(hi[c], idx.points[3 * u + c]);
+        }
+    }
+    const double centre[3] = {0.5 * (lo[0] + hi[0]), 0.0, 0.5 * (lo[2] + hi[2])};
+    double radius = 0;
+    for (int u = 0; u < nu; ++u) {
+        double r2 = 0;
+        for (int c = 0; c < 3; ++c)
+            r2 += (idx.points[3 * u + c] - centre[c]) * (idx.points[3 * u + c] - centre[c]);
+        radius = std::max(radius, std::sqrt(r2));
+    }
+    const double farfield = o.farfieldRadius * radius;
+
+    MultiBlockMesh m;
+    m.control.resize(3 * static_cast<std::size_t>(nu) * nk);
+    m.surfaceNode.resize(nu);
+    for (int u = 0; u < nu; ++u) {
+        const double* p = &idx.points[3 * u];
+        double dir[3], r0 = 0;
+        for (int c = 0; c < 3; ++c) {
+            dir[c] = p[c] - centre[c];
+            r0 += dir[c] * dir[c];
+        }
+        r0 = std::sqrt(r0);
+        if (!(r0 > 1e-6 * radius)) {
+            throw GeometryError("mesh: control point (" + std::to_string(p[0]) + ", " +
+                                std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                                ") coincides with the body centre: the body is not star-shaped");
+        }
+        for (double& d : dir) d /= r0;
+        if (std::abs(p[1]) <= o.symmetryTolerance) dir[1] = 0.0;  // columns on the plane stay on it
+        const std::vector<double> t =
+            geometricLayers(nk, o.controlWallSpacing * radius / (farfield - r0));
+        m.surfaceNode[u] = u;  // k = 0 layer: global node u is the geometry control point u
+        for (int k = 0; k < nk; ++k) {
+            const int g = u + nu * k;
+            for (int c = 0; c < 3; ++c) {
+                const double wall = p[c], far = centre[c] + farfield * dir[c];
+                m.control[3 * static_cast<std::size_t>(g) + c] =
+                    (k == 0) ? wall : wall + t[k] * (far - wall);
+            }
+        }
+    }
+
+    // Grid parameters: uniform along the wall, clustered towards it radially. The first radial
+    // grid interval in parameter space follows from dx/dzeta at the wall: p (nk - p) * spacing0.
+    const double dxdzeta = o.radialDegree * (nk - o.radialDegree) * o.controlWallSpacing;
+    const std::vector<double> radial =
+        clusteredSamples(o.radialNodes - 1, o.gridWallSpacing / dxdzeta, o.refine);
+    const std::vector<double> along = uniformSamples(o.surfaceNodes - 1, o.refine);
+
+    const geometry::Adjacency adj = geometry::buildAdjacency(set, 1e-9);
+    for (int p = 0; p < set.size(); ++p) {
+        const geometry::Patch& patch = set.patches[p];
+        if (patch.rational()) {
+            throw GeometryError("mesh: " + set.describe(p) +
+                                " is rational; mesh blocks are polynomial B-spline volumes");
+        }
+        ControlBlock b;
+        b.name = p < static_cast<int>(set.names.size()) && !set.names[p].empty()
+                     ? set.names[p]
+                     : "block " + std::to_string(p + 1);
+        b.degree = {patch.degreeU, patch.degreeV, o.radialDegree};
+        b.count = {patch.countU, patch.countV, nk};
+        b.knots = {patch.knotsU, patch.knotsV, nurbs::uniformKnots(o.radialDegree, nk)};
+        b.nodes.resize(static_cast<std::size_t>(patch.countU) * patch.countV * nk);
+        for (int k = 0; k < nk; ++k) {
+            for (int j = 0; j < patch.countV; ++j) {
+                for (int i = 0; i < patch.countU; ++i) {
+                    const int u = idx.toUnique[idx.patchOffset[p] + patch.index(i, j)];
+                    b.nodes[b.local(i, j, k)] = u + nu * k;
+                }
+            }
+        }
+        // Normalize the patch parameter range to the samples.
+        for (int d = 0; d < 2; ++d) {
+            const auto& U = b.knots[d];
+            b.samples[d].resize(along.size());
+            for (std::size_t s = 0; s < along.size(); ++s) {
+                b.samples[d][s] = (s + 1 == along.size())
+                                      ? U.back()
+                                      : U.front() + along[s] * (U.back() - U.front());
+            }
+        }
+        b.samples[2] = radial;
+        b.faces[static_cast<int>(Face::KMin)].kind = BoundaryKind::Wall;
+        b.faces[static_cast<int>(Face::KMax)].kind = BoundaryKind::Farfield;
+        m.blocks.push_back(std::move(b));
+    }
+    for (const geometry::SharedEdge& s : adj.shared) {
+        const int fa = kEdgeFace[s.a.edge], fb = kEdgeFace[s.b.edge];
+        m.blocks[s.a.patch].faces[fa] = {BoundaryKind::Interface, s.b.patch, fb};
+        m.blocks[s.b.patch].faces[fb] = {BoundaryKind::Interface, s.a.patch, fa};
+    }
+    for (const geometry::EdgeRef& e : adj.free) {
+        const nurbs::Curve<double> c = nurbs::boundaryCurve(set.patches[e.patch], e.edge);
+        for (int i = 0; i < c.count(); ++i) {
+            if (std::abs(c.points[3 * i + 1]) > o.symmetryTolerance) {
+                throw GeometryError(
+                    "mesh: edge " + std::to_string(e.edge) + " of " + set.describe(e.patch) +
+                    " is neither shared with another patch nor on the symmetry plane Y = 0");
+            }
+        }
+        m.blocks[e.patch].faces[kEdgeFace[e.edge]].kind = BoundaryKind::Symmetry;
+    }
+    validate(m);
+    matchInterfaces(m, regenerateAll(m));
+    return m;
+}
+
+}  // namespace aero::mesh

@@ -1,0 +1,308 @@
+#include "mesh/Quality.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <tuple>
+
+#include "common/Error.h"
+
+namespace aero::mesh {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+inline double dot(const double* a, const double* b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// det[a, b, c] with a, b, c as columns = a . (b x c).
+inline double det3(const double* a, const double* b, const double* c) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+// Locale-independent short form of a number for messages (printf would follow LC_NUMERIC,
+// which a GUI may have set to a comma locale).
+std::string num(double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 6);
+    return std::string(buf, r.ptr);
+}
+
+std::string blockLabel(const std::vector<StructuredGrid>& blocks, int b) {
+    return "block " + std::to_string(b) + " '" + blocks[b].name + "'";
+}
+
+std::array<int, 3> cellIjk(const StructuredGrid& g, long c) {
+    const long ni = g.dims[0] - 1, nj = g.dims[1] - 1;
+    return {static_cast<int>(c % ni), static_cast<int>((c / ni) % nj),
+            static_cast<int>(c / (ni * nj))};
+}
+
+std::array<double, 3> centroid(const StructuredGrid& g, const std::array<int, 3>& c) {
+    std::array<double, 3> s{0, 0, 0};
+    for (int n = 0; n < 8; ++n) {
+        const double* x = g.at(c[0] + (n & 1), c[1] + ((n >> 1) & 1), c[2] + ((n >> 2) & 1));
+        for (int d = 0; d < 3; ++d) s[d] += x[d];
+    }
+    for (double& v : s) v *= 0.125;
+    return s;
+}
+
+CellLocation locate(const std::vector<StructuredGrid>& blocks, int b, long c, double value) {
+    CellLocation loc;
+    loc.block = b;
+    loc.blockName = blocks[b].name;
+    loc.cell = cellIjk(blocks[b], c);
+    loc.centroid = centroid(blocks[b], loc.cell);
+    loc.value = value;
+    return loc;
+}
+
+void checkMatch(const std::vector<StructuredGrid>& blocks, const std::vector<CellQuality>& q) {
+    if (q.size() != blocks.size()) {
+        throw Error("cell quality: " + std::to_string(q.size()) + " quality sets for " +
+                    std::to_string(blocks.size()) + " blocks");
+    }
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+        const std::size_t n = static_cast<std::size_t>(std::max(0L, blocks[b].cellCount()));
+        const CellQuality& c = q[b];
+        for (const auto* v :
+             {&c.minJacobian, &c.scaledJacobian, &c.orthogonality, &c.aspectRatio, &c.skewness}) {
+            if (v->size() != n) {
+                throw Error("cell quality: " + blockLabel(blocks, static_cast<int>(b)) + " has " +
+                            std::to_string(n) + " cells but a metric has " +
+                            std::to_string(v->size()) + " values");
+            }
+        }
+    }
+}
+
+// min/max/mean/histogram of one metric over all blocks. fixedLo/fixedHi: NaN = from the data.
+MetricSummary summarizeMetric(const std::vector<const std::vector<double>*>& values, double fixedLo,
+                              double fixedHi) {
+    MetricSummary s;
+    s.min = kInf;
+    s.max = -kInf;
+    double sum = 0, finiteMin = kInf, finiteMax = -kInf;
+    long finite = 0;
+    for (const auto* v : values) {
+        for (const double x : *v) {
+            if (std::isnan(x)) {
+                ++s.nonFinite;
+                continue;
+            }
+            s.min = std::min(s.min, x);
+            s.max = std::max(s.max, x);
+            if (std::isinf(x)) {
+                ++s.nonFinite;
+                continue;
+            }
+            finiteMin = std::min(finiteMin, x);
+            finiteMax = std::max(finiteMax, x);
+            sum += x;
+            ++finite;
+        }
+    }
+    if (s.min > s.max) s.min = s.max = kNaN;  // no comparable value at all
+    s.mean = finite > 0 ? sum / static_cast<double>(finite) : kNaN;
+    s.lo = std::isnan(fixedLo) ? finiteMin : fixedLo;
+    s.hi = std::isnan(fixedHi) ? finiteMax : fixedHi;
+    if (finite == 0) s.lo = s.hi = 0;
+    const double width = s.hi - s.lo;
+    for (const auto* v : values) {
+        for (const double x : *v) {
+            if (!std::isfinite(x)) continue;
+            int bin = 0;
+            if (width > 0) {
+                const double t = (x - s.lo) / width * kQualityBins;
+                bin = t <= 0 ? 0 : (t >= kQualityBins ? kQualityBins - 1 : static_cast<int>(t));
+            }
+            ++s.histogram[bin];
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+CellQuality cellQuality(const StructuredGrid& g) {
+    for (int d = 0; d < 3; ++d) {
+        if (g.dims[d] < 2) {
+            throw GeometryError("cell quality of block '" + g.name +
+                                "': dims must be at least 2, got " + std::to_string(g.dims[0]) +
+                                " x " + std::to_string(g.dims[1]) + " x " +
+                                std::to_string(g.dims[2]));
+        }
+    }
+    if (g.xyz.size() != 3 * static_cast<std::size_t>(g.nodeCount())) {
+        throw GeometryError("cell quality of block '" + g.name + "': xyz has " +
+                            std::to_string(g.xyz.size()) + " values, expected 3 * " +
+                            std::to_string(g.nodeCount()));
+    }
+    const long n = g.cellCount();
+    CellQuality q;
+    q.minJacobian.resize(n);
+    q.scaledJacobian.resize(n);
+    q.orthogonality.resize(n);
+    q.aspectRatio.resize(n);
+    q.skewness.resize(n);
+    const int ni = g.dims[0] - 1, nj = g.dims[1] - 1, nk = g.dims[2] - 1;
+
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int k = 0; k < nk; ++k) {
+        for (int j = 0; j < nj; ++j) {
+            for (int i = 0; i < ni; ++i) {
+                // Corner n = a + 2b + 4c sits at node (i+a, j+b, k+c).
+                const double* X[8];
+                for (int c = 0; c < 8; ++c) {
+                    X[c] = g.at(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+                }
+                // E[d][e]: the 4 edges of direction d, oriented +d; e numbers the other two
+                // offsets (d = 0: e = b + 2c, d = 1: e = a + 2c, d = 2: e = a + 2b).
+                double E[3][4][3], U[3][4][3], L[3][4];
+                for (int e = 0; e < 4; ++e) {
+                    const int lo[3] = {2 * e, (e & 1) + 4 * (e >> 1), e};
+                    const int step[3] = {1, 2, 4};
+                    for (int d = 0; d < 3; ++d) {
+                        const double* p = X[lo[d]];
+                        const double* r = X[lo[d] + step[d]];
+                        for (int m = 0; m < 3; ++m) E[d][e][m] = r[m] - p[m];
+                        L[d][e] = std::sqrt(dot(E[d][e], E[d][e]));
+                        const double inv = L[d][e] > 0 ? 1.0 / L[d][e] : 0.0;
+                        for (int m = 0; m < 3; ++m) U[d][e][m] = E[d][e][m] * inv;
+                    }
+                }
+                double minJ = kInf, minS = kInf, maxCos = 0, probe = 0;
+                for (int c = 0; c < 8; ++c) {
+                    const int a = c & 1, b = (c >> 1) & 1, cc = c >> 2;
+                    const int e0 = b + 2 * cc, e1 = a + 2 * cc, e2 = a + 2 * b;
+                    const double J = det3(E[0][e0], E[1][e1], E[2][e2]);
+                    const double S = det3(U[0][e0], U[1][e1], U[2][e2]);
+                    probe += J + S;
+                    minJ = std::min(minJ, J);
+                    minS = std::min(minS, S);
+                    // An angle at a zero-length edge is undefined: count it as the worst.
+                    const bool z0 = !(L[0][e0] > 0), z1 = !(L[1][e1] > 0), z2 = !(L[2][e2] > 0);
+                    const double c01 = (z0 || z1) ? 1.0 : std::abs(dot(U[0][e0], U[1][e1]));
+                    const double c12 = (z1 || z2) ? 1.0 : std::abs(dot(U[1][e1], U[2][e2]));
+                    const double c02 = (z0 || z2) ? 1.0 : std::abs(dot(U[0][e0], U[2][e2]));
+                    maxCos = std::max({maxCos, c01, c12, c02});
+                }
+                // Principal axes and mean edge lengths.
+                double A[3][3], mean[3];
+                bool zeroAxis = false;
+                for (int d = 0; d < 3; ++d) {
+                    for (int m = 0; m < 3; ++m) {
+                        A[d][m] = E[d][0][m] + E[d][1][m] + E[d][2][m] + E[d][3][m];
+                    }
+                    const double len = std::sqrt(dot(A[d], A[d]));
+                    zeroAxis = zeroAxis || !(len > 0);
+                    const double inv = len > 0 ? 1.0 / len : 0.0;
+                    for (int m = 0; m < 3; ++m) A[d][m] *= inv;
+                    mean[d] = 0.25 * (L[d][0] + L[d][1] + L[d][2] + L[d][3]);
+                }
+                const double skew =
+                    zeroAxis ? 1.0
+                             : std::max({std::abs(dot(A[0], A[1])), std::abs(dot(A[1], A[2])),
+                                         std::abs(dot(A[0], A[2]))});
+                const double shortest = std::min({mean[0], mean[1], mean[2]});
+                const double longest = std::max({mean[0], mean[1], mean[2]});
+                const long idx = g.cell(i, j, k);
+                if (std::isnan(probe)) {  // NaN/inf coordinates: every metric is NaN
+                    q.minJacobian[idx] = q.scaledJacobian[idx] = q.orthogonality[idx] = kNaN;
+                    q.aspectRatio[idx] = q.skewness[idx] = kNaN;
+                    continue;
+                }
+                q.minJacobian[idx] = minJ;
+                q.scaledJacobian[idx] = std::clamp(minS, -1.0, 1.0);
+                q.orthogonality[idx] = 1.0 - std::min(maxCos, 1.0);
+                q.aspectRatio[idx] = shortest > 0 ? longest / shortest : kInf;
+                q.skewness[idx] = std::min(skew, 1.0);
+            }
+        }
+    }
+    return q;
+}
+
+QualitySummary summarize(const std::vector<StructuredGrid>& blocks,
+                         const std::vector<CellQuality>& q, int worst) {
+    checkMatch(blocks, q);
+    QualitySummary s;
+    auto gather = [&](std::vector<double> CellQuality::*m) {
+        std::vector<const std::vector<double>*> v;
+        for (const CellQuality& c : q) v.push_back(&(c.*m));
+        return v;
+    };
+    s.minJacobian = summarizeMetric(gather(&CellQuality::minJacobian), kNaN, kNaN);
+    s.scaledJacobian = summarizeMetric(gather(&CellQuality::scaledJacobian), -1.0, 1.0);
+    s.orthogonality = summarizeMetric(gather(&CellQuality::orthogonality), 0.0, 1.0);
+    s.aspectRatio = summarizeMetric(gather(&CellQuality::aspectRatio), 1.0, kNaN);
+    s.skewness = summarizeMetric(gather(&CellQuality::skewness), 0.0, 1.0);
+    if (s.aspectRatio.hi < s.aspectRatio.lo) s.aspectRatio.hi = s.aspectRatio.lo;
+
+    // Worst cells: a max-heap of the `worst` lowest (value, block, cell) keys, NaN as -inf.
+    using Key = std::tuple<double, int, long>;
+    std::priority_queue<Key> heap;
+    for (int b = 0; b < static_cast<int>(q.size()); ++b) {
+        const std::vector<double>& sj = q[b].scaledJacobian;
+        const std::vector<double>& mj = q[b].minJacobian;
+        for (long c = 0; c < static_cast<long>(sj.size()); ++c) {
+            ++s.cellCount;
+            if (!(mj[c] > 0)) ++s.nonPositiveJacobian;
+            if (worst <= 0) continue;
+            const double v = std::isnan(sj[c]) ? -kInf : sj[c];
+            if (static_cast<int>(heap.size()) < worst) {
+                heap.emplace(v, b, c);
+            } else if (v < std::get<0>(heap.top())) {
+                // Cells are scanned in increasing (block, cell) order, so an equal value never
+                // displaces a kept cell: ties keep the first cells.
+                heap.pop();
+                heap.emplace(v, b, c);
+            }
+        }
+    }
+    s.worst.resize(heap.size());
+    for (auto it = s.worst.rbegin(); it != s.worst.rend(); ++it) {
+        const auto [value, b, c] = heap.top();
+        heap.pop();
+        *it = locate(blocks, b, c, q[b].scaledJacobian[c]);
+    }
+    return s;
+}
+
+void requirePositiveJacobians(const std::vector<StructuredGrid>& blocks,
+                              const std::vector<CellQuality>& q) {
+    checkMatch(blocks, q);
+    long bad = 0, total = 0;
+    int firstBlock = -1;
+    long firstCell = -1;
+    for (int b = 0; b < static_cast<int>(q.size()); ++b) {
+        const std::vector<double>& mj = q[b].minJacobian;
+        total += static_cast<long>(mj.size());
+        for (long c = 0; c < static_cast<long>(mj.size()); ++c) {
+            if (mj[c] > 0) continue;
+            if (bad++ == 0) {
+                firstBlock = b;
+                firstCell = c;
+            }
+        }
+    }
+    if (bad == 0) return;
+    const CellLocation at =
+        locate(blocks, firstBlock, firstCell, q[firstBlock].minJacobian[firstCell]);
+    throw GeometryError("non-positive cell Jacobian: " + blockLabel(blocks, firstBlock) +
+                        ", cell (" + std::to_string(at.cell[0]) + ", " +
+                        std::to_string(at.cell[1]) + ", " + std::to_string(at.cell[2]) +
+                        ") at centroid (" + num(at.centroid[0]) + ", " + num(at.centroid[1]) +
+                        ", " + num(at.centroid[2]) + "): minimum Jacobian determinant " +
+                        num(at.value) + "; " + std::to_string(bad) + " of " +
+                        std::to_string(total) + " cells are non-positive");
+}
+
+}  // namespace aero::mesh

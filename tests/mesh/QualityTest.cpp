@@ -1,0 +1,275 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numeric>
+
+#include "common/Error.h"
+#include "mesh/Quality.h"
+
+using namespace aero;
+using namespace aero::mesh;
+
+namespace {
+
+// Block of dims nodes with node (i, j, k) at f(i, j, k).
+StructuredGrid makeGrid(const std::string& name, std::array<int, 3> dims,
+                        const std::function<std::array<double, 3>(int, int, int)>& f) {
+    StructuredGrid g;
+    g.name = name;
+    g.dims = dims;
+    g.xyz.resize(3 * static_cast<std::size_t>(g.nodeCount()));
+    for (int k = 0; k < dims[2]; ++k) {
+        for (int j = 0; j < dims[1]; ++j) {
+            for (int i = 0; i < dims[0]; ++i) {
+                const auto p = f(i, j, k);
+                double* x = g.at(i, j, k);
+                x[0] = p[0];
+                x[1] = p[1];
+                x[2] = p[2];
+            }
+        }
+    }
+    return g;
+}
+
+StructuredGrid uniformGrid(const std::string& name, std::array<int, 3> dims, double h) {
+    return makeGrid(name, dims, [h](int i, int j, int k) {
+        return std::array<double, 3>{h * i, h * j, h * k};
+    });
+}
+
+void expectAll(const std::vector<double>& v, double value, double tol) {
+    for (std::size_t a = 0; a < v.size(); ++a) ASSERT_NEAR(v[a], value, tol) << "cell " << a;
+}
+
+}  // namespace
+
+TEST(Quality, UniformGridIsPerfectAndMinJacobianIsCellVolume) {
+    const double h = 0.25;
+    const StructuredGrid g = uniformGrid("cube", {5, 4, 3}, h);
+    const CellQuality q = cellQuality(g);
+    ASSERT_EQ(static_cast<long>(q.minJacobian.size()), g.cellCount());
+    expectAll(q.minJacobian, h * h * h, 1e-15);
+    expectAll(q.scaledJacobian, 1.0, 1e-15);
+    expectAll(q.orthogonality, 1.0, 1e-15);
+    expectAll(q.aspectRatio, 1.0, 1e-15);
+    expectAll(q.skewness, 0.0, 1e-15);
+    EXPECT_NO_THROW(requirePositiveJacobians({g}, {q}));
+}
+
+TEST(Quality, MetricsAreInvariantUnderRotationAndTranslation) {
+    // Rotation about the axis (1, 2, 2)/3 by 0.7 rad (Rodrigues), then a shift.
+    const double n[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3}, c = std::cos(0.7), s = std::sin(0.7);
+    double R[3][3];
+    for (int r = 0; r < 3; ++r) {
+        for (int col = 0; col < 3; ++col) {
+            R[r][col] = (r == col ? c : 0.0) + (1 - c) * n[r] * n[col];
+        }
+    }
+    R[0][1] -= s * n[2], R[0][2] += s * n[1], R[1][0] += s * n[2];
+    R[1][2] -= s * n[0], R[2][0] -= s * n[1], R[2][1] += s * n[0];
+    const double h = 0.5;
+    const StructuredGrid g = makeGrid("rotated", {4, 4, 4}, [&](int i, int j, int k) {
+        const double p[3] = {h * i, h * j, h * k};
+        std::array<double, 3> x{10, -3, 7};
+        for (int r = 0; r < 3; ++r) x[r] += R[r][0] * p[0] + R[r][1] * p[1] + R[r][2] * p[2];
+        return x;
+    });
+    const CellQuality q = cellQuality(g);
+    expectAll(q.minJacobian, h * h * h, 1e-13);
+    expectAll(q.scaledJacobian, 1.0, 1e-13);
+    expectAll(q.orthogonality, 1.0, 1e-13);
+    expectAll(q.aspectRatio, 1.0, 1e-13);
+    expectAll(q.skewness, 0.0, 1e-13);
+}
+
+TEST(Quality, ShearedStretchedGridMatchesHandValues) {
+    // x = (hx i + t hy j, hy j, hz k): every cell is the parallelepiped spanned by
+    // e_i = (1, 0, 0), e_j = (1.5, 2, 0) (length 2.5), e_k = (0, 0, 0.5).
+    const double hx = 1.0, hy = 2.0, hz = 0.5, t = 0.75;
+    const StructuredGrid g = makeGrid("sheared", {4, 3, 5}, [&](int i, int j, int k) {
+        return std::array<double, 3>{hx * i + t * hy * j, hy * j, hz * k};
+    });
+    const CellQuality q = cellQuality(g);
+    expectAll(q.minJacobian, 1.0, 1e-14);     // hx hy hz
+    expectAll(q.scaledJacobian, 0.8, 1e-14);  // sin of the i-j angle: 2 / 2.5
+    expectAll(q.orthogonality, 0.4, 1e-14);   // 1 - |cos| = 1 - 1.5 / 2.5
+    expectAll(q.aspectRatio, 5.0, 1e-14);     // 2.5 / 0.5
+    expectAll(q.skewness, 0.6, 1e-14);        // the principal axes are the edges
+}
+
+TEST(Quality, TaperedCellSeparatesOrthogonalityFromSkewness) {
+    // One symmetric trapezoidal prism: bottom edge 2 long, top edge 1, height 1, depth 1.
+    const double X[2][2] = {{0.0, 2.0}, {0.5, 1.5}};  // [j][i]
+    const StructuredGrid g = makeGrid("trapezoid", {2, 2, 2}, [&](int i, int j, int k) {
+        return std::array<double, 3>{X[j][i], static_cast<double>(j), static_cast<double>(k)};
+    });
+    const CellQuality q = cellQuality(g);
+    // Corners on the long edge: det = 2, on the short one: det = 1. Side edges (+-0.5, 1, 0).
+    EXPECT_NEAR(q.minJacobian[0], 1.0, 1e-15);
+    EXPECT_NEAR(q.scaledJacobian[0], 2.0 / std::sqrt(5.0), 1e-15);
+    EXPECT_NEAR(q.orthogonality[0], 1.0 - 1.0 / std::sqrt(5.0), 1e-15);
+    EXPECT_NEAR(q.aspectRatio[0], 1.5, 1e-15);  // mean lengths 1.5, sqrt(1.25), 1
+    EXPECT_NEAR(q.skewness[0], 0.0, 1e-15);     // the axes (6,0,0), (0,4,0), (0,0,4) are orthogonal
+}
+
+TEST(Quality, FoldedCellIsNamedWithItsLocation) {
+    // Push node (2, 2, 2) of a unit-spacing grid 1.5 along x, past node (3, 2, 2): the four
+    // cells with that node on their i-min side fold. The first in (k, j, i) order is
+    // cell (2, 1, 1), det = -0.5 at its corners on the pushed node's i-edge.
+    StructuredGrid g = uniformGrid("wing-root", {5, 5, 5}, 1.0);
+    g.at(2, 2, 2)[0] += 1.5;
+    const std::vector<StructuredGrid> blocks{uniformGrid("far-field", {3, 3, 3}, 2.0), g};
+    const std::vector<CellQuality> q{cellQuality(blocks[0]), cellQuality(blocks[1])};
+    EXPECT_DOUBLE_EQ(q[1].minJacobian[g.cell(2, 1, 1)], -0.5);
+    try {
+        requirePositiveJacobians(blocks, q);
+        FAIL() << "expected GeometryError";
+    } catch (const GeometryError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("block 1 'wing-root'"), std::string::npos) << m;
+        EXPECT_NE(m.find("cell (2, 1, 1)"), std::string::npos) << m;
+        EXPECT_NE(m.find("centroid (2.6875, 1.5, 1.5)"), std::string::npos) << m;
+        EXPECT_NE(m.find("-0.5"), std::string::npos) << m;
+        EXPECT_NE(m.find("4 of 72 cells"), std::string::npos) << m;
+    }
+    const QualitySummary s = summarize(blocks, q, 3);
+    EXPECT_EQ(s.cellCount, 72);
+    EXPECT_EQ(s.nonPositiveJacobian, 4);
+    ASSERT_EQ(s.worst.size(), 3u);
+    for (const CellLocation& w : s.worst) {
+        EXPECT_EQ(w.block, 1);
+        EXPECT_EQ(w.blockName, "wing-root");
+        EXPECT_LT(w.value, 0.0);
+        EXPECT_DOUBLE_EQ(w.value, q[1].scaledJacobian[g.cell(w.cell[0], w.cell[1], w.cell[2])]);
+        EXPECT_EQ(w.cell[0], 2);  // all folded cells have i = 2
+    }
+    EXPECT_LE(s.worst[0].value, s.worst[1].value);
+    EXPECT_LE(s.worst[1].value, s.worst[2].value);
+    EXPECT_DOUBLE_EQ(s.scaledJacobian.min, s.worst[0].value);
+}
+
+TEST(Quality, LeftHandedAndCollapsedBlocksAreRejected) {
+    // Mirror image of a good block: every determinant is negative.
+    const StructuredGrid mirrored = makeGrid("mirrored", {3, 3, 3}, [](int i, int j, int k) {
+        return std::array<double, 3>{-1.0 * i, 1.0 * j, 1.0 * k};
+    });
+    const CellQuality qm = cellQuality(mirrored);
+    expectAll(qm.minJacobian, -1.0, 1e-15);
+    expectAll(qm.scaledJacobian, -1.0, 1e-15);
+    EXPECT_THROW(requirePositiveJacobians({mirrored}, {qm}), GeometryError);
+    EXPECT_EQ(summarize({mirrored}, {qm}).nonPositiveJacobian, 8);
+
+    // A wedge: the k-edges at i = 0 collapse onto the axis (as on a polar singular line).
+    const StructuredGrid wedge = makeGrid("wedge", {2, 2, 2}, [](int i, int j, int k) {
+        return std::array<double, 3>{1.0 * i, 1.0 * j, i == 0 ? 0.0 : 1.0 * k};
+    });
+    const CellQuality qw = cellQuality(wedge);
+    EXPECT_EQ(qw.minJacobian[0], 0.0);
+    EXPECT_EQ(qw.scaledJacobian[0], 0.0);
+    EXPECT_EQ(qw.orthogonality[0], 0.0);  // angle at a zero-length edge counts as worst
+    EXPECT_TRUE(std::isfinite(qw.aspectRatio[0]));
+    EXPECT_THROW(requirePositiveJacobians({wedge}, {qw}), GeometryError);
+}
+
+TEST(Quality, NaNCoordinatesAreNeverSilentlyAccepted) {
+    StructuredGrid g = uniformGrid("nan", {3, 3, 3}, 1.0);
+    g.at(1, 1, 1)[2] = std::nan("");
+    const CellQuality q = cellQuality(g);
+    for (std::size_t c = 0; c < q.minJacobian.size(); ++c) {
+        EXPECT_TRUE(std::isnan(q.minJacobian[c]));
+    }
+    EXPECT_THROW(requirePositiveJacobians({g}, {q}), GeometryError);
+    const QualitySummary s = summarize({g}, {q});
+    EXPECT_EQ(s.nonPositiveJacobian, 8);
+    EXPECT_EQ(s.scaledJacobian.nonFinite, 8);
+    EXPECT_TRUE(std::isnan(s.worst.front().value));
+}
+
+TEST(Quality, SummaryStatisticsAndHistograms) {
+    // Block a: 2 x 1 x 1 unit cubes; block b: one cell spanned by (1, 0, 0), (1, 2, 0), (0, 0,
+    // 0.5).
+    const StructuredGrid a = uniformGrid("a", {3, 2, 2}, 1.0);
+    const StructuredGrid b = makeGrid("b", {2, 2, 2}, [](int i, int j, int k) {
+        return std::array<double, 3>{1.0 * i + 1.0 * j, 2.0 * j, 0.5 * k};
+    });
+    const double r5 = std::sqrt(5.0);  // |e_j|; cos(e_i, e_j) = 1 / r5
+    const std::vector<StructuredGrid> blocks{a, b};
+    const std::vector<CellQuality> q{cellQuality(a), cellQuality(b)};
+    EXPECT_NEAR(q[1].scaledJacobian[0], 2 / r5, 1e-15);
+    const QualitySummary s = summarize(blocks, q, 10);
+    EXPECT_EQ(s.cellCount, 3);
+    EXPECT_EQ(s.nonPositiveJacobian, 0);
+    ASSERT_EQ(s.worst.size(), 3u);  // fewer cells than asked for
+    EXPECT_EQ(s.worst[0].block, 1);
+    EXPECT_EQ(s.worst[0].blockName, "b");
+    EXPECT_NEAR(s.worst[0].value, 2 / r5, 1e-15);
+    EXPECT_NEAR(s.worst[0].centroid[0], 1.0, 1e-15);
+    EXPECT_NEAR(s.worst[0].centroid[1], 1.0, 1e-15);
+    EXPECT_NEAR(s.worst[0].centroid[2], 0.25, 1e-15);
+    EXPECT_EQ(s.worst[1].block, 0);  // ties broken by block, then cell index
+    EXPECT_EQ(s.worst[1].cell, (std::array<int, 3>{0, 0, 0}));
+    EXPECT_EQ(s.worst[2].cell, (std::array<int, 3>{1, 0, 0}));
+
+    EXPECT_NEAR(s.scaledJacobian.min, 2 / r5, 1e-15);
+    EXPECT_NEAR(s.scaledJacobian.max, 1.0, 1e-15);
+    EXPECT_NEAR(s.scaledJacobian.mean, (2 + 2 / r5) / 3, 1e-15);
+    EXPECT_EQ(s.scaledJacobian.lo, -1.0);
+    EXPECT_EQ(s.scaledJacobian.hi, 1.0);
+    EXPECT_EQ(s.scaledJacobian.histogram[9],
+              3);  // 0.894 and 1 (the end point goes to the last bin)
+    EXPECT_NEAR(s.aspectRatio.max, 2 * r5, 1e-14);
+    EXPECT_EQ(s.aspectRatio.lo, 1.0);
+    EXPECT_NEAR(s.aspectRatio.hi, 2 * r5, 1e-14);
+    EXPECT_EQ(s.aspectRatio.histogram[0], 2);
+    EXPECT_EQ(s.aspectRatio.histogram[9], 1);
+    EXPECT_NEAR(s.skewness.mean, 1 / r5 / 3, 1e-15);
+    EXPECT_EQ(s.skewness.histogram[0], 2);
+    EXPECT_EQ(s.skewness.histogram[4], 1);       // 0.447
+    EXPECT_EQ(s.orthogonality.histogram[5], 1);  // 0.553
+    EXPECT_EQ(s.orthogonality.histogram[9], 2);
+    // All three cells have volume 1: a zero-width range puts them in bin 0.
+    EXPECT_EQ(s.minJacobian.histogram[0], 3);
+    EXPECT_EQ(s.minJacobian.lo, s.minJacobian.hi);
+    for (const MetricSummary* m :
+         {&s.minJacobian, &s.scaledJacobian, &s.orthogonality, &s.aspectRatio, &s.skewness}) {
+        EXPECT_EQ(std::accumulate(m->histogram.begin(), m->histogram.end(), 0L), 3);
+        EXPECT_EQ(m->nonFinite, 0);
+    }
+}
+
+TEST(Quality, BadInputIsRejected) {
+    StructuredGrid g = uniformGrid("short", {3, 3, 3}, 1.0);
+    g.xyz.pop_back();
+    EXPECT_THROW(cellQuality(g), GeometryError);
+    const StructuredGrid flat = uniformGrid("flat", {3, 3, 1}, 1.0);
+    EXPECT_THROW(cellQuality(flat), GeometryError);
+    const StructuredGrid ok = uniformGrid("ok", {3, 3, 3}, 1.0);
+    EXPECT_THROW(summarize({ok, ok}, {cellQuality(ok)}), Error);
+    CellQuality truncated = cellQuality(ok);
+    truncated.skewness.pop_back();
+    EXPECT_THROW(requirePositiveJacobians({ok}, {truncated}), Error);
+}
+
+// Timing on the paper's grid size (900,000 nodes). Run with --gtest_also_run_disabled_tests.
+TEST(Quality, DISABLED_Timing900kNodes) {
+    std::vector<StructuredGrid> blocks{makeGrid("big", {100, 100, 90}, [](int i, int j, int k) {
+        const double r = 1.0 + 0.01 * i, t = 0.015 * j;
+        return std::array<double, 3>{r * std::cos(t), r * std::sin(t), 0.01 * k};
+    })};
+    const StructuredGrid& g = blocks[0];
+    std::vector<CellQuality> q{cellQuality(g)};  // warm-up (page faults)
+    const int reps = 5;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int r = 0; r < reps; ++r) q[0] = cellQuality(g);
+    const auto t1 = std::chrono::steady_clock::now();
+    const QualitySummary s = summarize(blocks, q);
+    const auto t2 = std::chrono::steady_clock::now();
+    std::printf("cellQuality, %ld cells: %.2f ms; summarize: %.2f ms\n", g.cellCount(),
+                std::chrono::duration<double, std::milli>(t1 - t0).count() / reps,
+                std::chrono::duration<double, std::milli>(t2 - t1).count());
+    EXPECT_EQ(s.nonPositiveJacobian, 0);
+}
