@@ -48,6 +48,7 @@ int guarded(const char* command, Fn&& fn) {
 /// Subcommands implemented in their own files.
 int cmdDeform(const Args& args);
 int cmdMesh(const Args& args);
+int cmdFit(const Args& args);
 /// The deform command's work for a case file (also `aeroform --batch CASE`).
 int runDeform(const std::string& casePath, bool json, bool list);
 /// The mesh command's work (also `aeroform --batch CASE` for cases with a "mesh" section).

@@ -199,6 +199,7 @@ const char* kMainHelp =
     "  convert IN -o OUT              IGES <-> native JSON, exact\n"
     "  deform CASE [--json]           embed in FFD lattices, deform, check, write IGES + VTK\n"
     "  mesh CASE [--json]             B-spline volume grid, elasticity move, quality, VTK/Plot3D\n"
+    "  fit GRID.xyz [--json]          fit B-spline volumes to your own Plot3D grid, report errors\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
 
@@ -224,6 +225,7 @@ int runCli(int argc, char** argv) {
     if (cmd == "convert") return cmdConvert(args);
     if (cmd == "deform") return cmdDeform(args);
     if (cmd == "mesh") return cmdMesh(args);
+    if (cmd == "fit") return cmdFit(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }

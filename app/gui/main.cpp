@@ -1,7 +1,8 @@
 // aeroform: the desktop application (and `--batch`, its headless entry point).
 //
-//   aeroform [FILE]                      open FILE (.json, .igs, .iges), or the sample
-//   aeroform --sample                    open the half-sphere sample
+//   aeroform [FILE]                      open FILE (project .json, patch set .json, .igs,
+//                                        .iges), or the sample
+//   aeroform --sample                    open the half-sphere sample with the paper's FFD
 //   aeroform --screenshot OUT.png [FILE] open, render, save the viewport, exit
 //   aeroform --batch FILE                headless run (no Qt application, no window)
 //
@@ -28,9 +29,10 @@ constexpr const char* kUsage =
     "\n"
     "Aeroform: NURBS / free-form deformation aerodynamic shape design.\n"
     "\n"
-    "  FILE               patch set to open: Aeroform JSON (.json) or IGES (.igs, .iges);\n"
-    "                     without FILE the half-sphere sample is shown\n"
-    "  --sample           open the half-sphere sample (20 bicubic patches)\n"
+    "  FILE               project (a case file, .json), patch set (.json) or IGES (.igs,\n"
+    "                     .iges) to open; without FILE the half-sphere sample is shown\n"
+    "  --sample           open the half-sphere sample (20 bicubic patches) with the paper's\n"
+    "                     6x6x2 FFD lattice and 89 design variables\n"
     "  --screenshot OUT   open FILE (or the sample), render it, save the viewport as OUT\n"
     "                     (PNG or JPEG by suffix) and exit; needs a display (e.g. xvfb-run)\n"
     "  --batch FILE       run FILE headless, without any window (see aeroform-cli)\n"
@@ -120,21 +122,32 @@ int main(int argc, char** argv) {
     QSurfaceFormat::setDefaultFormat(aero::ui::VtkViewport::defaultFormat());
     QApplication app(argc, argv);
     QApplication::setApplicationName(QStringLiteral("Aeroform"));
+    QApplication::setOrganizationName(QStringLiteral("Aeroform"));
     QApplication::setApplicationVersion(QStringLiteral("0.1.0"));
 
     GuiOptions options;
     if (const int code = parseGuiOptions(QApplication::arguments(), options); code >= 0)
         return code;
 
+    if (!options.screenshot.isEmpty()) {
+        // A one-shot picture: no autosave session, no recent-files entry.
+        aero::ui::MainWindow::Options o;
+        o.autosave = false;
+        o.recentFiles = false;
+        aero::ui::MainWindow window(o);
+        window.resize(1200, 800);
+        return runScreenshot(app, window, options);
+    }
     aero::ui::MainWindow window;
-    window.resize(1200, 800);
-
-    if (!options.screenshot.isEmpty()) return runScreenshot(app, window, options);
+    window.resize(1240, 780);
 
     window.show();
     if (options.file.isEmpty())
         window.openSample();
     else
         window.openFile(options.file);
+    // After the window is up: offer work a crashed session autosaved (asks before replacing
+    // what was just opened, which is unmodified).
+    QMetaObject::invokeMethod(&window, [&window] { window.offerRecovery(); }, Qt::QueuedConnection);
     return QApplication::exec();
 }

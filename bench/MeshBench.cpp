@@ -1,0 +1,143 @@
+// Second-level FFD costs. Run: build/release/bench/bench_mesh
+//  - regeneration x = N b of the paper-size grid (903,340 nodes) and the coarse grid;
+//  - the elasticity move of the control grid (m = 6) on the blended-wing deformation of
+//    samples/bwb_deform.json, at the paper level (13,546 control nodes) and the coarse level;
+//  - on the same deformation, node-based elasticity on the coarse grid itself (75,140 nodes):
+//    the paper's point is that the control-grid route costs a few percent of that.
+#include <benchmark/benchmark.h>
+
+#include <numeric>
+
+#include "geometry/HalfSphere.h"
+#include "io/CaseFile.h"
+#include "mesh/Elasticity.h"
+#include "mesh/Extrusion.h"
+#include "study/CaseShape.h"
+
+using namespace aero;
+
+namespace {
+
+std::string samples() { return AEROFORM_SAMPLES_DIR; }
+
+// The blended-wing deformation of the sample case (unique control points of the deformed geometry).
+const std::vector<double>& bwbSurface() {
+    static const std::vector<double> s = [] {
+        io::CaseFile c = io::readCase(samples() + "/bwb_deform.json");
+        return study::deformCase(c, geometry::makeHalfSphere()).uniqueSurface;
+    }();
+    return s;
+}
+
+void BM_Regenerate(benchmark::State& state, const char* level) {
+    const mesh::MultiBlockMesh m = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
+    std::vector<mesh::StructuredGrid> grids;
+    for (auto _ : state) {
+        mesh::regenerateAll(m, grids);
+        benchmark::DoNotOptimize(grids.data());
+    }
+    state.counters["grid_nodes"] = static_cast<double>(m.gridNodeCount());
+    state.SetItemsProcessed(state.iterations() * m.gridNodeCount());
+}
+BENCHMARK_CAPTURE(BM_Regenerate, paper, "paper")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Regenerate, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ControlGridMove(benchmark::State& state, const char* level) {
+    const mesh::MultiBlockMesh base = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
+    mesh::MoveReport r;
+    for (auto _ : state) {
+        mesh::MultiBlockMesh m = base;
+        r = mesh::moveControlGrid(m, bwbSurface(), mesh::ElasticityOptions{});
+        benchmark::DoNotOptimize(m.control.data());
+    }
+    state.counters["control_nodes"] = base.controlCount();
+    state.counters["cg_iterations"] = r.totalIterations;
+    state.counters["converged"] = r.status == mesh::SolveStatus::Converged;
+}
+BENCHMARK_CAPTURE(BM_ControlGridMove, paper, "paper")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ControlGridMove, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// The grid itself as an elasticity mesh: every grid node a node, every grid cell a hexahedron,
+// coincident interface nodes merged; wall nodes follow the deformed surface.
+struct NodeMesh {
+    mesh::MultiBlockMesh mesh;
+    std::vector<double> wall;  // target positions of the wall nodes (surfaceNode order)
+};
+
+NodeMesh nodeMesh(const char* level) {
+    const auto set = geometry::makeHalfSphere();
+    const mesh::MultiBlockMesh cm = mesh::extrudeToFarfield(set, mesh::extrusionLevel(level));
+    const auto grids = mesh::regenerateAll(cm);
+    // Target wall: the grid wall of the control grid moved by the same deformation (its wall layer
+    // is the deformed geometry), i.e. the deformed surface sampled at the same parameters.
+    mesh::MultiBlockMesh moved = cm;
+    for (std::size_t u = 0; u < cm.surfaceNode.size(); ++u) {
+        for (int c = 0; c < 3; ++c) moved.control[3 * cm.surfaceNode[u] + c] = bwbSurface()[3 * u + c];
+    }
+    const auto movedGrids = mesh::regenerateAll(moved);
+    // Unique node numbering: union of coincident interface nodes.
+    std::vector<long> offset(grids.size() + 1, 0);
+    for (std::size_t b = 0; b < grids.size(); ++b) offset[b + 1] = offset[b] + grids[b].nodeCount();
+    std::vector<long> parent(offset.back());
+    std::iota(parent.begin(), parent.end(), 0L);
+    auto find = [&](long x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (const auto& p : cm.interfaceNodes) parent[find(offset[p.blockA] + p.nodeA)] = find(offset[p.blockB] + p.nodeB);
+    std::vector<int> id(parent.size(), -1);
+    NodeMesh nm;
+    int next = 0;
+    for (long n = 0; n < static_cast<long>(parent.size()); ++n) {
+        const long r = find(n);
+        if (id[r] < 0) {
+            id[r] = next++;
+            nm.mesh.control.insert(nm.mesh.control.end(), {0, 0, 0});
+        }
+        id[n] = id[r];
+    }
+    std::vector<char> isWall(next, 0);
+    for (std::size_t b = 0; b < grids.size(); ++b) {
+        mesh::ControlBlock blk;
+        blk.name = cm.blocks[b].name;
+        blk.count = grids[b].dims;
+        blk.faces = cm.blocks[b].faces;
+        blk.nodes.resize(grids[b].nodeCount());
+        for (long n = 0; n < grids[b].nodeCount(); ++n) {
+            const int g = id[offset[b] + n];
+            blk.nodes[n] = g;
+            for (int c = 0; c < 3; ++c) nm.mesh.control[3 * g + c] = grids[b].xyz[3 * n + c];
+        }
+        for (int j = 0; j < grids[b].dims[1]; ++j) {
+            for (int i = 0; i < grids[b].dims[0]; ++i) {
+                const long n = grids[b].node(i, j, 0);
+                const int g = id[offset[b] + n];
+                if (!isWall[g]) {
+                    isWall[g] = 1;
+                    nm.mesh.surfaceNode.push_back(g);
+                    nm.wall.insert(nm.wall.end(), &movedGrids[b].xyz[3 * n], &movedGrids[b].xyz[3 * n] + 3);
+                }
+            }
+        }
+        nm.mesh.blocks.push_back(std::move(blk));
+    }
+    return nm;
+}
+
+void BM_FineGridMove(benchmark::State& state, const char* level) {
+    const NodeMesh base = nodeMesh(level);
+    mesh::MoveReport r;
+    for (auto _ : state) {
+        mesh::MultiBlockMesh m = base.mesh;
+        r = mesh::moveControlGrid(m, base.wall, mesh::ElasticityOptions{});
+        benchmark::DoNotOptimize(m.control.data());
+    }
+    state.counters["nodes"] = base.mesh.controlCount();
+    state.counters["cg_iterations"] = r.totalIterations;
+    state.counters["converged"] = r.status == mesh::SolveStatus::Converged;
+}
+BENCHMARK_CAPTURE(BM_FineGridMove, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();
