@@ -116,6 +116,69 @@ VolumeInverter::VolumeInverter(const Volume<double>& v, const InversionOptions& 
     for (int d = 0; d < 3; ++d) samples_[d] = spanSamples(v.knots[d], per);
     grid_.resize(3 * samples_[0].size() * samples_[1].size() * samples_[2].size());
     sampleGrid(v, samples_[0], samples_[1], samples_[2], grid_.data());
+    // Buckets: about 2 samples per bucket and direction.
+    const std::size_t n = grid_.size() / 3;
+    std::array<double, 3> hi{};
+    for (int d = 0; d < 3; ++d) {
+        lo_[d] = std::numeric_limits<double>::infinity();
+        hi[d] = -lo_[d];
+        buckets_[d] = std::max(1, static_cast<int>(samples_[d].size() / 2));
+    }
+    for (std::size_t a = 0; a < n; ++a) {
+        for (int d = 0; d < 3; ++d) {
+            lo_[d] = std::min(lo_[d], grid_[3 * a + d]);
+            hi[d] = std::max(hi[d], grid_[3 * a + d]);
+        }
+    }
+    for (int d = 0; d < 3; ++d) cell_[d] = std::max(hi[d] - lo_[d], 1e-300) / buckets_[d];
+    auto bucketOf = [&](const double* x) {
+        int b[3];
+        for (int d = 0; d < 3; ++d) b[d] = std::clamp(static_cast<int>((x[d] - lo_[d]) / cell_[d]), 0, buckets_[d] - 1);
+        return b[0] + buckets_[0] * (b[1] + buckets_[1] * b[2]);
+    };
+    const int nb = buckets_[0] * buckets_[1] * buckets_[2];
+    bucketStart_.assign(nb + 1, 0);
+    for (std::size_t a = 0; a < n; ++a) ++bucketStart_[bucketOf(&grid_[3 * a]) + 1];
+    for (int b = 0; b < nb; ++b) bucketStart_[b + 1] += bucketStart_[b];
+    bucketItems_.resize(n);
+    std::vector<int> fill(bucketStart_.begin(), bucketStart_.end() - 1);
+    for (std::size_t a = 0; a < n; ++a) bucketItems_[fill[bucketOf(&grid_[3 * a])]++] = static_cast<int>(a);
+}
+
+std::size_t VolumeInverter::nearestSample(const Vec3<double>& p) const {
+    int c[3];
+    for (int d = 0; d < 3; ++d) c[d] = std::clamp(static_cast<int>(std::floor((p[d] - lo_[d]) / cell_[d])), 0, buckets_[d] - 1);
+    std::size_t best = 0;
+    double bestD = std::numeric_limits<double>::infinity();
+    // Rings of buckets around the point's bucket until a sample is found and the ring is farther
+    // than the best distance (a sample-free neighbourhood is widened, never skipped).
+    const int maxRing = std::max({buckets_[0], buckets_[1], buckets_[2]});
+    for (int ring = 0; ring <= maxRing; ++ring) {
+        for (int k = c[2] - ring; k <= c[2] + ring; ++k) {
+            if (k < 0 || k >= buckets_[2]) continue;
+            for (int j = c[1] - ring; j <= c[1] + ring; ++j) {
+                if (j < 0 || j >= buckets_[1]) continue;
+                for (int i = c[0] - ring; i <= c[0] + ring; ++i) {
+                    if (i < 0 || i >= buckets_[0]) continue;
+                    if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) != ring) continue;
+                    const int b = i + buckets_[0] * (j + buckets_[1] * k);
+                    for (int t = bucketStart_[b]; t < bucketStart_[b + 1]; ++t) {
+                        const double* g = &grid_[3 * static_cast<std::size_t>(bucketItems_[t])];
+                        const double dx = g[0] - p[0], dy = g[1] - p[1], dz = g[2] - p[2];
+                        const double dd = dx * dx + dy * dy + dz * dz;
+                        if (dd < bestD) {
+                            bestD = dd;
+                            best = static_cast<std::size_t>(bucketItems_[t]);
+                        }
+                    }
+                }
+            }
+        }
+        // Everything in rings > ring is at least ring * min(cell) away from the point's bucket.
+        const double reach = ring * std::min({cell_[0], cell_[1], cell_[2]});
+        if (bestD < std::numeric_limits<double>::infinity() && reach * reach >= bestD) break;
+    }
+    return best;
 }
 
 VolumeInversion VolumeInverter::operator()(const Vec3<double>& p) const {
@@ -123,16 +186,7 @@ VolumeInversion VolumeInverter::operator()(const Vec3<double>& p) const {
     VolumeInversion r;
     // Robust start: the nearest coarse sample.
     const std::size_t n0 = samples_[0].size(), n1 = samples_[1].size();
-    std::size_t bestIdx = 0;
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t a = 0; a < grid_.size() / 3; ++a) {
-        const double dx = grid_[3 * a] - p[0], dy = grid_[3 * a + 1] - p[1], dz = grid_[3 * a + 2] - p[2];
-        const double d = dx * dx + dy * dy + dz * dz;
-        if (d < best) {
-            best = d;
-            bestIdx = a;
-        }
-    }
+    const std::size_t bestIdx = nearestSample(p);
     r.xi = {samples_[0][bestIdx % n0], samples_[1][(bestIdx / n0) % n1], samples_[2][bestIdx / (n0 * n1)]};
     double lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {

@@ -58,6 +58,12 @@ private:
     InversionOptions options_;
     std::array<std::vector<double>, 3> samples_;  // parameter values of the coarse grid
     std::vector<double> grid_;                    // 3 per coarse sample, [k][j][i]
+    // Uniform buckets over the samples' bounding box: the start search looks at the point's
+    // bucket and its neighbours instead of every sample.
+    std::array<double, 3> lo_{}, cell_{};
+    std::array<int, 3> buckets_{1, 1, 1};
+    std::vector<int> bucketStart_, bucketItems_;  // CSR: samples of bucket b
+    std::size_t nearestSample(const Vec3<double>& p) const;
 };
 
 }  // namespace aero::nurbs
