@@ -74,139 +74,47 @@ std::array<unsigned char, 3> patchColor(int patch, bool tint) {
     return c;
 }
 
-vtkSmartPointer<vtkPolyData> buildSurfaces(const geometry::PatchSet& set, int n, bool tint,
-                                           const Eigen::Vector3d& centre) {
-    const vtkIdType perPatch = static_cast<vtkIdType>(n) * n;
-    const vtkIdType total = perPatch * set.size();
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToFloat();
-    points->SetNumberOfPoints(total);
-    vtkNew<vtkFloatArray> normals;
-    normals->SetName("Normals");
-    normals->SetNumberOfComponents(3);
-    normals->SetNumberOfTuples(total);
-    vtkNew<vtkUnsignedCharArray> colors;
-    colors->SetName("Colors");
-    colors->SetNumberOfComponents(3);
-    colors->SetNumberOfTuples(total);
-    vtkNew<vtkCellArray> triangles;
-    triangles->AllocateExact(2 * static_cast<vtkIdType>(n - 1) * (n - 1) * set.size(),
-                             6 * static_cast<vtkIdType>(n - 1) * (n - 1) * set.size());
+// Samples of one patch: n x n surface points with oriented unit normals, 4 boundary curves of m
+// points each, and the control points. Plain arrays, filled without touching VTK (so patches
+// can be sampled in parallel).
+struct PatchSamples {
+    std::vector<double> xyz;      // 3 n^2, u fastest
+    std::vector<float> normals;   // 3 n^2
+    std::vector<double> edges;    // 3 * 4m: edges 0..3 as in nurbs::boundaryCurve
+};
 
-    std::vector<double> xyz(3 * static_cast<size_t>(perPatch));
-    std::vector<Eigen::Vector3d> nrm(static_cast<size_t>(perPatch));
-    for (int p = 0; p < set.size(); ++p) {
-        const Patch& s = set.patches[static_cast<size_t>(p)];
-        const Range ru = parameterRange(s.knotsU, s.degreeU, s.countU);
-        const Range rv = parameterRange(s.knotsV, s.degreeV, s.countV);
-        const std::vector<double> us = uniform(ru, n), vs = uniform(rv, n);
-        nurbs::sampleGrid(s, us, vs, xyz.data());
-
-        // Orientation: normals of the patch should on the whole point away from the centre
-        // of the set (outward for closed-ish bodies); flip the whole patch otherwise.
-        double outward = 0;
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const size_t k = static_cast<size_t>(i + n * j);
-                nrm[k] =
-                    unitNormal(s, us[static_cast<size_t>(i)], vs[static_cast<size_t>(j)], ru, rv);
-                const Eigen::Vector3d x(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
-                outward += nrm[k].dot(x - centre);
-            }
-        const bool flip = outward < 0;
-
-        const vtkIdType base = perPatch * p;
-        const auto rgb = patchColor(p, tint);
-        for (vtkIdType k = 0; k < perPatch; ++k) {
-            const size_t kk = static_cast<size_t>(k);
-            points->SetPoint(base + k, xyz[3 * kk], xyz[3 * kk + 1], xyz[3 * kk + 2]);
-            const Eigen::Vector3d m = flip ? Eigen::Vector3d(-nrm[kk]) : nrm[kk];
-            const float nv[3] = {static_cast<float>(m.x()), static_cast<float>(m.y()),
-                                 static_cast<float>(m.z())};
-            normals->SetTypedTuple(base + k, nv);
-            colors->SetTypedTuple(base + k, rgb.data());
+// Normals are flipped when `flip` is set; with `decide` the patch's orientation is chosen
+// (normals pointing away from `centre` on the whole) and returned in flip.
+void samplePatch(const Patch& s, int n, int m, const Eigen::Vector3d& centre, bool decide, bool& flip,
+                 PatchSamples& out) {
+    const Range ru = parameterRange(s.knotsU, s.degreeU, s.countU);
+    const Range rv = parameterRange(s.knotsV, s.degreeV, s.countV);
+    const std::vector<double> us = uniform(ru, n), vs = uniform(rv, n);
+    const size_t perPatch = static_cast<size_t>(n) * static_cast<size_t>(n);
+    out.xyz.resize(3 * perPatch);
+    out.normals.resize(3 * perPatch);
+    nurbs::sampleGrid(s, us, vs, out.xyz.data());
+    std::vector<Eigen::Vector3d> nrm(perPatch);
+    double outward = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const size_t k = static_cast<size_t>(i + n * j);
+            nrm[k] = unitNormal(s, us[static_cast<size_t>(i)], vs[static_cast<size_t>(j)], ru, rv);
+            const Eigen::Vector3d x(out.xyz[3 * k], out.xyz[3 * k + 1], out.xyz[3 * k + 2]);
+            outward += nrm[k].dot(x - centre);
         }
-        // Two triangles per grid cell, wound like Su x Sv (or reversed with the normals).
-        for (int j = 0; j + 1 < n; ++j)
-            for (int i = 0; i + 1 < n; ++i) {
-                const vtkIdType a = base + i + static_cast<vtkIdType>(n) * j;
-                const vtkIdType b = a + 1, c = a + 1 + n, d = a + n;
-                if (!flip) {
-                    const vtkIdType t0[3] = {a, b, c}, t1[3] = {a, c, d};
-                    triangles->InsertNextCell(3, t0);
-                    triangles->InsertNextCell(3, t1);
-                } else {
-                    const vtkIdType t0[3] = {a, c, b}, t1[3] = {a, d, c};
-                    triangles->InsertNextCell(3, t0);
-                    triangles->InsertNextCell(3, t1);
-                }
-            }
+    if (decide) flip = outward < 0;
+    for (size_t k = 0; k < perPatch; ++k) {
+        const Eigen::Vector3d v = flip ? Eigen::Vector3d(-nrm[k]) : nrm[k];
+        for (int c = 0; c < 3; ++c) out.normals[3 * k + static_cast<size_t>(c)] = static_cast<float>(v[c]);
     }
-    auto poly = vtkSmartPointer<vtkPolyData>::New();
-    poly->SetPoints(points);
-    poly->SetPolys(triangles);
-    poly->GetPointData()->SetNormals(normals);
-    poly->GetPointData()->SetScalars(colors);
-    return poly;
-}
 
-vtkSmartPointer<vtkPolyData> buildEdges(const geometry::PatchSet& set, int m) {
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToFloat();
-    vtkNew<vtkCellArray> lines;
-    std::vector<double> xyz(3 * static_cast<size_t>(m));
-    std::vector<vtkIdType> ids(static_cast<size_t>(m));
-    for (const Patch& s : set.patches) {
-        const Range ru = parameterRange(s.knotsU, s.degreeU, s.countU);
-        const Range rv = parameterRange(s.knotsV, s.degreeV, s.countV);
-        const std::vector<double> us = uniform(ru, m), vs = uniform(rv, m);
-        const double u0[1] = {ru.first}, u1[1] = {ru.last}, v0[1] = {rv.first}, v1[1] = {rv.last};
-        // Edges 0..3 as in nurbs::boundaryCurve: v = v0, u = u1, v = v1, u = u0.
-        const std::span<const double> rows[4][2] = {{us, v0}, {u1, vs}, {us, v1}, {u0, vs}};
-        for (const auto& edge : rows) {
-            nurbs::sampleGrid(s, edge[0], edge[1], xyz.data());
-            for (int k = 0; k < m; ++k) {
-                const size_t kk = static_cast<size_t>(k);
-                ids[kk] = points->InsertNextPoint(xyz[3 * kk], xyz[3 * kk + 1], xyz[3 * kk + 2]);
-            }
-            lines->InsertNextCell(m, ids.data());
-        }
-    }
-    auto poly = vtkSmartPointer<vtkPolyData>::New();
-    poly->SetPoints(points);
-    poly->SetLines(lines);
-    return poly;
-}
-
-vtkSmartPointer<vtkPolyData> buildControlNets(const geometry::PatchSet& set) {
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToDouble();
-    vtkNew<vtkCellArray> verts, lines;
-    std::vector<vtkIdType> ids;
-    for (const Patch& s : set.patches) {
-        const vtkIdType base = points->GetNumberOfPoints();
-        for (int k = 0; k < s.controlCount(); ++k) {
-            const size_t kk = static_cast<size_t>(k);
-            points->InsertNextPoint(s.points[3 * kk], s.points[3 * kk + 1], s.points[3 * kk + 2]);
-            const vtkIdType id = base + k;
-            verts->InsertNextCell(1, &id);
-        }
-        ids.resize(static_cast<size_t>(s.countU));
-        for (int j = 0; j < s.countV; ++j) {
-            for (int i = 0; i < s.countU; ++i) ids[static_cast<size_t>(i)] = base + s.index(i, j);
-            lines->InsertNextCell(s.countU, ids.data());
-        }
-        ids.resize(static_cast<size_t>(s.countV));
-        for (int i = 0; i < s.countU; ++i) {
-            for (int j = 0; j < s.countV; ++j) ids[static_cast<size_t>(j)] = base + s.index(i, j);
-            lines->InsertNextCell(s.countV, ids.data());
-        }
-    }
-    auto poly = vtkSmartPointer<vtkPolyData>::New();
-    poly->SetPoints(points);
-    poly->SetVerts(verts);
-    poly->SetLines(lines);
-    return poly;
+    const std::vector<double> ue = uniform(ru, m), ve = uniform(rv, m);
+    const double u0[1] = {ru.first}, u1[1] = {ru.last}, v0[1] = {rv.first}, v1[1] = {rv.last};
+    const std::span<const double> rows[4][2] = {{ue, v0}, {u1, ve}, {ue, v1}, {u0, ve}};
+    out.edges.resize(3 * 4 * static_cast<size_t>(m));
+    for (int e = 0; e < 4; ++e)
+        nurbs::sampleGrid(s, rows[e][0], rows[e][1], out.edges.data() + 3 * static_cast<size_t>(m) * static_cast<size_t>(e));
 }
 
 }  // namespace
@@ -216,8 +124,135 @@ struct PatchScene::Impl {
     PatchSceneOptions options;
     vtkNew<vtkPolyDataMapper> surfaceMapper, edgeMapper, netMapper;
     vtkNew<vtkActor> surfaces, edges, nets;
-    int patches = 0;
+    vtkSmartPointer<vtkPolyData> surfacePoly, edgePoly, netPoly;
+
+    // Layout of the displayed set (what updatePatches() requires to stay the same).
+    std::vector<std::array<int, 2>> netCounts;  // countU, countV per patch
+    std::vector<vtkIdType> netOffset;           // first control point of each patch
+    std::vector<char> flip;                     // orientation chosen at setPatchSet
+    std::vector<char> visible;
+    std::vector<char> highlighted;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     int controlPoints = 0;
+
+    int patches() const { return static_cast<int>(netCounts.size()); }
+    int n() const { return options.surfaceSamples; }
+    int m() const { return options.edgeSamples; }
+
+    bool sameLayout(const geometry::PatchSet& set) const {
+        if (set.size() != patches()) return false;
+        for (int p = 0; p < set.size(); ++p) {
+            const Patch& s = set.patches[static_cast<size_t>(p)];
+            if (s.countU != netCounts[static_cast<size_t>(p)][0] || s.countV != netCounts[static_cast<size_t>(p)][1])
+                return false;
+        }
+        return true;
+    }
+
+    // Writes the samples of patch p into the arrays (which have the full size already).
+    void write(int p, const Patch& s, const PatchSamples& smp) {
+        const vtkIdType perPatch = static_cast<vtkIdType>(n()) * n();
+        const vtkIdType base = perPatch * p;
+        vtkPoints* pts = surfacePoly->GetPoints();
+        auto* normals = vtkFloatArray::SafeDownCast(surfacePoly->GetPointData()->GetNormals());
+        for (vtkIdType k = 0; k < perPatch; ++k) {
+            const size_t kk = static_cast<size_t>(k);
+            pts->SetPoint(base + k, smp.xyz[3 * kk], smp.xyz[3 * kk + 1], smp.xyz[3 * kk + 2]);
+            normals->SetTypedTuple(base + k, smp.normals.data() + 3 * kk);
+        }
+        const vtkIdType edgeBase = static_cast<vtkIdType>(4) * m() * p;
+        vtkPoints* epts = edgePoly->GetPoints();
+        for (vtkIdType k = 0; k < 4 * static_cast<vtkIdType>(m()); ++k) {
+            const size_t kk = static_cast<size_t>(k);
+            epts->SetPoint(edgeBase + k, smp.edges[3 * kk], smp.edges[3 * kk + 1], smp.edges[3 * kk + 2]);
+        }
+        vtkPoints* npts = netPoly->GetPoints();
+        for (int k = 0; k < s.controlCount(); ++k) {
+            const size_t kk = static_cast<size_t>(k);
+            npts->SetPoint(netOffset[static_cast<size_t>(p)] + k, s.points[3 * kk], s.points[3 * kk + 1], s.points[3 * kk + 2]);
+        }
+    }
+
+    void sampleAndWrite(const geometry::PatchSet& set, const std::vector<int>& list, bool decide) {
+        std::vector<PatchSamples> samples(list.size());
+        const int count = static_cast<int>(list.size());
+#pragma omp parallel for schedule(dynamic) if (count > 1)
+        for (int i = 0; i < count; ++i) {
+            const int p = list[static_cast<size_t>(i)];
+            bool f = flip[static_cast<size_t>(p)] != 0;
+            samplePatch(set.patches[static_cast<size_t>(p)], n(), m(), centre, decide, f, samples[static_cast<size_t>(i)]);
+            flip[static_cast<size_t>(p)] = f ? 1 : 0;
+        }
+        for (int i = 0; i < count; ++i) {
+            const int p = list[static_cast<size_t>(i)];
+            write(p, set.patches[static_cast<size_t>(p)], samples[static_cast<size_t>(i)]);
+        }
+        surfacePoly->GetPoints()->Modified();
+        surfacePoly->GetPointData()->GetNormals()->Modified();
+        edgePoly->GetPoints()->Modified();
+        netPoly->GetPoints()->Modified();
+        surfacePoly->Modified();
+        edgePoly->Modified();
+        netPoly->Modified();
+    }
+
+    // Cells of the visible patches: triangles wound like the chosen normals, edge polylines,
+    // control-point vertices and net lines.
+    void rebuildCells() {
+        const int N = n(), M = m();
+        vtkNew<vtkCellArray> triangles, lines, verts, netLines;
+        for (int p = 0; p < patches(); ++p) {
+            if (!visible[static_cast<size_t>(p)]) continue;
+            const vtkIdType base = static_cast<vtkIdType>(N) * N * p;
+            const bool f = flip[static_cast<size_t>(p)] != 0;
+            for (int j = 0; j + 1 < N; ++j)
+                for (int i = 0; i + 1 < N; ++i) {
+                    const vtkIdType a = base + i + static_cast<vtkIdType>(N) * j;
+                    const vtkIdType b = a + 1, c = a + 1 + N, d = a + N;
+                    const vtkIdType t0[3] = {a, f ? c : b, f ? b : c}, t1[3] = {a, f ? d : c, f ? c : d};
+                    triangles->InsertNextCell(3, t0);
+                    triangles->InsertNextCell(3, t1);
+                }
+            std::vector<vtkIdType> ids(static_cast<size_t>(M));
+            for (int e = 0; e < 4; ++e) {
+                for (int k = 0; k < M; ++k) ids[static_cast<size_t>(k)] = static_cast<vtkIdType>(4) * M * p + static_cast<vtkIdType>(M) * e + k;
+                lines->InsertNextCell(M, ids.data());
+            }
+            const int cu = netCounts[static_cast<size_t>(p)][0], cv = netCounts[static_cast<size_t>(p)][1];
+            const vtkIdType nb = netOffset[static_cast<size_t>(p)];
+            for (int k = 0; k < cu * cv; ++k) {
+                const vtkIdType id = nb + k;
+                verts->InsertNextCell(1, &id);
+            }
+            ids.resize(static_cast<size_t>(cu));
+            for (int j = 0; j < cv; ++j) {
+                for (int i = 0; i < cu; ++i) ids[static_cast<size_t>(i)] = nb + i + static_cast<vtkIdType>(cu) * j;
+                netLines->InsertNextCell(cu, ids.data());
+            }
+            ids.resize(static_cast<size_t>(cv));
+            for (int i = 0; i < cu; ++i) {
+                for (int j = 0; j < cv; ++j) ids[static_cast<size_t>(j)] = nb + i + static_cast<vtkIdType>(cu) * j;
+                netLines->InsertNextCell(cv, ids.data());
+            }
+        }
+        surfacePoly->SetPolys(triangles);
+        edgePoly->SetLines(lines);
+        netPoly->SetVerts(verts);
+        netPoly->SetLines(netLines);
+    }
+
+    void recolor() {
+        auto* colors = vtkUnsignedCharArray::SafeDownCast(surfacePoly->GetPointData()->GetScalars());
+        if (!colors) return;
+        const vtkIdType perPatch = static_cast<vtkIdType>(n()) * n();
+        for (int p = 0; p < patches(); ++p) {
+            std::array<unsigned char, 3> rgb = patchColor(p, options.tintPatches);
+            if (highlighted[static_cast<size_t>(p)]) rgb = {246, 196, 120};  // selected: warm amber
+            for (vtkIdType k = 0; k < perPatch; ++k) colors->SetTypedTuple(perPatch * p + k, rgb.data());
+        }
+        colors->Modified();
+        surfacePoly->Modified();
+    }
 };
 
 PatchScene::PatchScene(vtkRenderer* renderer, PatchSceneOptions options)
@@ -260,6 +295,11 @@ PatchScene::PatchScene(vtkRenderer* renderer, PatchSceneOptions options)
     np->LightingOff();
     d_->nets->VisibilityOff();
 
+    // Surfaces and nets are not pickable: lattice picking is done in screen space.
+    d_->surfaces->PickableOff();
+    d_->edges->PickableOff();
+    d_->nets->PickableOff();
+
     clear();
     d_->renderer->AddActor(d_->surfaces);
     d_->renderer->AddActor(d_->edges);
@@ -275,27 +315,110 @@ PatchScene::~PatchScene() {
 void PatchScene::setPatchSet(const geometry::PatchSet& set) {
     geometry::validate(set);  // throws GeometryError naming the patch; scene unchanged
 
+    Impl& d = *d_;
     // The centre used to orient the patches: the middle of the control-point bounding box.
     const geometry::BoundingBox box = geometry::controlBoundingBox(set);
-    const Eigen::Vector3d centre(0.5 * (box.min[0] + box.max[0]), 0.5 * (box.min[1] + box.max[1]),
-                                 0.5 * (box.min[2] + box.max[2]));
+    d.centre = Eigen::Vector3d(0.5 * (box.min[0] + box.max[0]), 0.5 * (box.min[1] + box.max[1]),
+                               0.5 * (box.min[2] + box.max[2]));
+    const int P = set.size();
+    d.netCounts.assign(static_cast<size_t>(P), {0, 0});
+    d.netOffset.assign(static_cast<size_t>(P), 0);
+    vtkIdType controls = 0;
+    for (int p = 0; p < P; ++p) {
+        const Patch& s = set.patches[static_cast<size_t>(p)];
+        d.netCounts[static_cast<size_t>(p)] = {s.countU, s.countV};
+        d.netOffset[static_cast<size_t>(p)] = controls;
+        controls += s.controlCount();
+    }
+    d.flip.assign(static_cast<size_t>(P), 0);
+    d.visible.assign(static_cast<size_t>(P), 1);
+    d.highlighted.assign(static_cast<size_t>(P), 0);
+    d.controlPoints = static_cast<int>(controls);
 
-    auto surfaces = buildSurfaces(set, d_->options.surfaceSamples, d_->options.tintPatches, centre);
-    auto edges = buildEdges(set, d_->options.edgeSamples);
-    auto nets = buildControlNets(set);
-    d_->surfaceMapper->SetInputData(surfaces);
-    d_->edgeMapper->SetInputData(edges);
-    d_->netMapper->SetInputData(nets);
-    d_->patches = set.size();
-    d_->controlPoints = set.controlPointCount();
+    const vtkIdType surfacePoints = static_cast<vtkIdType>(d.n()) * d.n() * P;
+    d.surfacePoly = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPoints> sp;
+    sp->SetDataTypeToFloat();
+    sp->SetNumberOfPoints(surfacePoints);
+    d.surfacePoly->SetPoints(sp);
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(surfacePoints);
+    d.surfacePoly->GetPointData()->SetNormals(normals);
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName("Colors");
+    colors->SetNumberOfComponents(3);
+    colors->SetNumberOfTuples(surfacePoints);
+    d.surfacePoly->GetPointData()->SetScalars(colors);
+
+    d.edgePoly = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPoints> ep;
+    ep->SetDataTypeToFloat();
+    ep->SetNumberOfPoints(static_cast<vtkIdType>(4) * d.m() * P);
+    d.edgePoly->SetPoints(ep);
+
+    d.netPoly = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPoints> np;
+    np->SetDataTypeToDouble();
+    np->SetNumberOfPoints(controls);
+    d.netPoly->SetPoints(np);
+
+    std::vector<int> all(static_cast<size_t>(P));
+    for (int p = 0; p < P; ++p) all[static_cast<size_t>(p)] = p;
+    d.sampleAndWrite(set, all, /*decide=*/true);
+    d.rebuildCells();
+    d.recolor();
+    d.surfaceMapper->SetInputData(d.surfacePoly);
+    d.edgeMapper->SetInputData(d.edgePoly);
+    d.netMapper->SetInputData(d.netPoly);
+}
+
+void PatchScene::updatePatches(const geometry::PatchSet& set, const std::vector<int>& patches) {
+    if (!d_->surfacePoly || !d_->sameLayout(set)) {
+        setPatchSet(set);
+        return;
+    }
+    std::vector<int> list;
+    for (int p : patches)
+        if (p >= 0 && p < set.size()) list.push_back(p);
+    if (list.empty()) return;
+    d_->sampleAndWrite(set, list, /*decide=*/false);
 }
 
 void PatchScene::clear() {
+    d_->surfacePoly = nullptr;
+    d_->edgePoly = nullptr;
+    d_->netPoly = nullptr;
     d_->surfaceMapper->SetInputData(vtkSmartPointer<vtkPolyData>::New());
     d_->edgeMapper->SetInputData(vtkSmartPointer<vtkPolyData>::New());
     d_->netMapper->SetInputData(vtkSmartPointer<vtkPolyData>::New());
-    d_->patches = 0;
+    d_->netCounts.clear();
+    d_->netOffset.clear();
+    d_->flip.clear();
+    d_->visible.clear();
+    d_->highlighted.clear();
     d_->controlPoints = 0;
+}
+
+void PatchScene::setPatchVisible(int patch, bool visible) {
+    if (patch < 0 || patch >= d_->patches() || (d_->visible[static_cast<size_t>(patch)] != 0) == visible) return;
+    d_->visible[static_cast<size_t>(patch)] = visible ? 1 : 0;
+    d_->rebuildCells();
+}
+
+bool PatchScene::patchVisible(int patch) const {
+    return patch >= 0 && patch < d_->patches() && d_->visible[static_cast<size_t>(patch)] != 0;
+}
+
+void PatchScene::setHighlightedPatches(const std::vector<int>& patches) {
+    if (!d_->surfacePoly) return;
+    std::vector<char> h(static_cast<size_t>(d_->patches()), 0);
+    for (int p : patches)
+        if (p >= 0 && p < d_->patches()) h[static_cast<size_t>(p)] = 1;
+    if (h == d_->highlighted) return;
+    d_->highlighted = std::move(h);
+    d_->recolor();
 }
 
 void PatchScene::setSurfacesVisible(bool visible) {
@@ -318,7 +441,7 @@ bool PatchScene::controlNetsVisible() const {
 }
 
 int PatchScene::patchCount() const {
-    return d_->patches;
+    return d_->patches();
 }
 int PatchScene::controlPointCount() const {
     return d_->controlPoints;
@@ -343,7 +466,8 @@ std::array<double, 6> PatchScene::bounds() const {
 
 void PatchScene::fitCamera(vtkCamera* camera, double aspect,
                            const std::array<double, 3>& viewDirection,
-                           const std::array<double, 3>& viewUp, double fill) const {
+                           const std::array<double, 3>& viewUp, double fill,
+                           const std::vector<double>* extra) const {
     if (empty()) return;
     // Orthonormal view frame: f into the screen, r to the right, u up.
     const Eigen::Vector3d f =
@@ -363,6 +487,14 @@ void PatchScene::fitCamera(vtkCamera* camera, double aspect,
             double x[3];
             poly->GetPoint(i, x);
             const Eigen::Vector3d p(x[0], x[1], x[2]);
+            const Eigen::Vector3d q(p.dot(r), p.dot(u), p.dot(f));
+            lo = lo.cwiseMin(q);
+            hi = hi.cwiseMax(q);
+        }
+    }
+    if (extra) {
+        for (size_t i = 0; i + 2 < extra->size(); i += 3) {
+            const Eigen::Vector3d p((*extra)[i], (*extra)[i + 1], (*extra)[i + 2]);
             const Eigen::Vector3d q(p.dot(r), p.dot(u), p.dot(f));
             lo = lo.cwiseMin(q);
             hi = hi.cwiseMax(q);

@@ -6,11 +6,16 @@
 //   control nets   control points and the lines of each net (hidden by default).
 // No VTK type is exposed here beyond the renderer it draws into.
 //
+// Deformations keep a patch set's layout (patch count, control-net sizes): updatePatches()
+// then re-samples only the given patches and overwrites their points in place (no new VTK
+// pipeline, no new cells), which is what keeps dragging interactive.
+//
 // GUI thread only. The scene does not render by itself: after changing it, ask the viewport
 // for a render. Removing actors releases their GL resources, so destroy the scene while its
 // viewport's context can be made current (see MainWindow).
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "geometry/PatchSet.h"
 
@@ -36,8 +41,18 @@ class PatchScene {
     /// Replaces the displayed geometry with `set` (copied into VTK arrays; the set is not kept).
     /// Throws GeometryError (libcore) if the set is invalid; the scene is unchanged then.
     void setPatchSet(const geometry::PatchSet& set);
+    /// Re-samples the listed patches of `set` in place (surfaces, edges, control nets). `set`
+    /// must have the layout of the displayed set (else the whole scene is rebuilt with
+    /// setPatchSet). Each patch keeps the orientation chosen by setPatchSet.
+    void updatePatches(const geometry::PatchSet& set, const std::vector<int>& patches);
     /// Shows nothing.
     void clear();
+
+    /// Per-patch visibility (all visible after setPatchSet).
+    void setPatchVisible(int patch, bool visible);
+    bool patchVisible(int patch) const;
+    /// Tints these patches as selected (others normal).
+    void setHighlightedPatches(const std::vector<int>& patches);
 
     void setSurfacesVisible(bool visible);
     void setEdgesVisible(bool visible);
@@ -58,8 +73,10 @@ class PatchScene {
     /// `viewUp`, centred on what is visible on screen, at the distance where the projected
     /// surfaces (and control nets, if shown) fill the share `fill` of the smaller side of a
     /// viewport of width/height `aspect`. Keeps the camera's view angle. No-op when empty.
+    /// `extra` (3 per point, may be null) are further points to keep in view, e.g. lattices.
     void fitCamera(vtkCamera* camera, double aspect, const std::array<double, 3>& viewDirection,
-                   const std::array<double, 3>& viewUp, double fill = 0.8) const;
+                   const std::array<double, 3>& viewUp, double fill = 0.8,
+                   const std::vector<double>* extra = nullptr) const;
 
   private:
     struct Impl;

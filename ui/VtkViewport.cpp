@@ -300,6 +300,64 @@ QImage VtkViewport::grabImage() {
     return image.convertToFormat(QImage::Format_RGB32);
 }
 
+bool VtkViewport::project(const std::array<double, 3>& world, QPointF* widget, double* depth) const {
+    const int* size = d_->window->GetSize();
+    if (size[0] <= 1 || size[1] <= 1) return false;
+    vtkRenderer* ren = d_->renderer;
+    // Camera space first: points at or behind the eye do not project.
+    vtkCamera* cam = ren->GetActiveCamera();
+    double pos[3], dir[3];
+    cam->GetPosition(pos);
+    cam->GetDirectionOfProjection(dir);
+    if (!cam->GetParallelProjection()) {
+        const double ahead = (world[0] - pos[0]) * dir[0] + (world[1] - pos[1]) * dir[1] + (world[2] - pos[2]) * dir[2];
+        if (ahead <= 0) return false;
+    }
+    ren->SetWorldPoint(world[0], world[1], world[2], 1.0);
+    ren->WorldToDisplay();
+    double display[3];
+    ren->GetDisplayPoint(display);
+    const qreal dpr = devicePixelRatioF();
+    // VTK display pixels: origin bottom-left, framebuffer pixels (see Impl::setEventPosition).
+    if (widget) *widget = QPointF(display[0] / dpr, (size[1] - 1 - display[1]) / dpr);
+    if (depth) *depth = display[2];
+    return true;
+}
+
+void VtkViewport::pickRay(const QPointF& widget, std::array<double, 3>& origin, std::array<double, 3>& direction) const {
+    vtkRenderer* ren = d_->renderer;
+    const int* size = d_->window->GetSize();
+    const qreal dpr = devicePixelRatioF();
+    const double x = widget.x() * dpr, y = size[1] - 1 - widget.y() * dpr;
+    double nearP[4], farP[4];
+    ren->SetDisplayPoint(x, y, 0.0);
+    ren->DisplayToWorld();
+    ren->GetWorldPoint(nearP);
+    ren->SetDisplayPoint(x, y, 1.0);
+    ren->DisplayToWorld();
+    ren->GetWorldPoint(farP);
+    for (double* p : {nearP, farP})
+        if (p[3] != 0)
+            for (int k = 0; k < 3; ++k) p[k] /= p[3];
+    double len = 0;
+    for (int k = 0; k < 3; ++k) {
+        origin[static_cast<size_t>(k)] = nearP[k];
+        direction[static_cast<size_t>(k)] = farP[k] - nearP[k];
+        len += direction[static_cast<size_t>(k)] * direction[static_cast<size_t>(k)];
+    }
+    len = std::sqrt(len);
+    if (len > 0)
+        for (double& c : direction) c /= len;
+    else
+        direction = viewDirection();
+}
+
+std::array<double, 3> VtkViewport::viewDirection() const {
+    std::array<double, 3> dir{};
+    d_->renderer->GetActiveCamera()->GetDirectionOfProjection(dir.data());
+    return dir;
+}
+
 void VtkViewport::setOrientationAxesVisible(bool visible) {
     d_->axesWidget->SetEnabled(visible ? 1 : 0);
     if (visible) d_->axesWidget->InteractiveOff();

@@ -10,7 +10,9 @@
 // Threading: GUI thread only (VTK objects included). Anyone who changes the scene calls
 // requestRender() (or update()); rendering happens in the next paintGL().
 #include <QOpenGLWidget>
+#include <QPointF>
 #include <QSurfaceFormat>
+#include <array>
 #include <memory>
 
 class vtkRenderer;
@@ -46,6 +48,18 @@ class VtkViewport : public QOpenGLWidget {
 
     /// Number of frames VTK has rendered so far (for tests and diagnostics).
     int renderedFrames() const;
+
+    // --- Screen <-> world, for tools that pick and drag in the view (widget coordinates are
+    // Qt's logical pixels, origin top-left, like QMouseEvent::position()).
+
+    /// Projects a world point into the widget. Returns false if the point is behind the camera
+    /// or the viewport has no size yet. `depth` (optional) is the normalized depth in [0, 1].
+    bool project(const std::array<double, 3>& world, QPointF* widget, double* depth = nullptr) const;
+    /// The line of sight under a widget position: a point on it (on the near plane) and its
+    /// unit direction, away from the viewer.
+    void pickRay(const QPointF& widget, std::array<double, 3>& origin, std::array<double, 3>& direction) const;
+    /// Unit direction the camera looks along (into the screen).
+    std::array<double, 3> viewDirection() const;
 
     void setOrientationAxesVisible(bool visible);
     bool orientationAxesVisible() const;

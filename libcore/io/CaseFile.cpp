@@ -1,5 +1,6 @@
 #include "io/CaseFile.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,8 @@
 #include <sstream>
 
 #include "common/Error.h"
+#include "nurbs/Basis.h"
+#include "nurbs/KnotInsertion.h"
 
 namespace aero::io {
 
@@ -92,6 +95,26 @@ std::string resolve(const std::string& caseFile, const std::string& p) {
     return (std::filesystem::path(caseFile).parent_path() / path).lexically_normal().string();
 }
 
+// Control points per direction after the case's refinements and creases (what indices refer to).
+std::array<int, 3> refinedCounts(const LatticeCase& lc) {
+    std::array<int, 3> n{};
+    for (int d = 0; d < 3; ++d) {
+        std::vector<double> U = nurbs::uniformKnots(lc.degrees[d], lc.counts[d]);
+        auto insert = [&](double u) { U.insert(std::upper_bound(U.begin(), U.end(), u), u); };
+        for (const auto& [dir, knots] : lc.refine) {
+            if (dir == d) {
+                for (double u : knots) insert(u);
+            }
+        }
+        for (const auto& [dir, u] : lc.crease) {
+            if (dir != d) continue;
+            for (int m = nurbs::multiplicity(U, u); m < lc.degrees[d]; ++m) insert(u);
+        }
+        n[d] = static_cast<int>(U.size()) - lc.degrees[d] - 1;
+    }
+    return n;
+}
+
 int latticeRef(const Ctx& ctx, const json& v, const std::string& key, const std::vector<LatticeCase>& lattices) {
     if (v.is_number_integer()) return ctx.integer(v, key, 0, static_cast<int>(lattices.size()) - 1);
     const std::string name = ctx.string(v, key);
@@ -123,6 +146,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     c.path = path;
     if (!doc.contains("geometry")) ctx.fail("geometry", "missing (the geometry file, .igs or .json)");
     c.geometry = resolve(path, ctx.string(doc["geometry"], "geometry"));
+    if (doc.contains("description")) c.description = ctx.string(doc["description"], "description");
 
     if (doc.contains("lattices")) {
         const json& ls = doc["lattices"];
@@ -270,11 +294,12 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
                 PointVariableCase p;
                 p.lattice = j.contains("lattice") ? latticeRef(ctx, j["lattice"], key + ".lattice", c.lattices) : 0;
                 if (!j.contains("index")) ctx.fail(key + ".index", "missing ([i, j, k] of the lattice point)");
+                p.index = ctx.integers<3>(j["index"], key + ".index", 0, 99999);
+                const std::array<int, 3> n = refinedCounts(c.lattices[p.lattice]);
                 for (int d = 0; d < 3; ++d) {
-                    p.index = ctx.integers<3>(j["index"], key + ".index", 0, 999);
-                    if (p.index[d] >= c.lattices[p.lattice].counts[d]) {
+                    if (p.index[d] >= n[d]) {
                         ctx.fail(key + ".index[" + std::to_string(d) + "]", std::to_string(p.index[d]) + " is beyond the lattice's " +
-                                 std::to_string(c.lattices[p.lattice].counts[d]) + " points");
+                                 std::to_string(n[d]) + " points (after refinement)");
                     }
                 }
                 if (j.contains("axes")) {
@@ -304,11 +329,12 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
             DisplacementCase d;
             d.lattice = ds[i].contains("lattice") ? latticeRef(ctx, ds[i]["lattice"], key + ".lattice", c.lattices) : 0;
             if (!ds[i].contains("index") || !ds[i].contains("delta")) ctx.fail(key, "needs index and delta");
-            d.index = ctx.integers<3>(ds[i]["index"], key + ".index", 0, 999);
+            d.index = ctx.integers<3>(ds[i]["index"], key + ".index", 0, 99999);
+            const std::array<int, 3> n = refinedCounts(c.lattices[d.lattice]);
             for (int dd = 0; dd < 3; ++dd) {
-                if (d.index[dd] >= c.lattices[d.lattice].counts[dd]) {
-                    ctx.fail(key + ".index[" + std::to_string(dd) + "]", "beyond the lattice's " +
-                             std::to_string(c.lattices[d.lattice].counts[dd]) + " points");
+                if (d.index[dd] >= n[dd]) {
+                    ctx.fail(key + ".index[" + std::to_string(dd) + "]", "beyond the lattice's " + std::to_string(n[dd]) +
+                             " points (after refinement)");
                 }
             }
             d.delta = ctx.numbers<3>(ds[i]["delta"], key + ".delta");

@@ -50,6 +50,7 @@ struct MeshCase {
 
 struct CaseFile {
     std::string path;       // the case file itself
+    std::string description;  // free text, kept when the GUI saves the case
     std::string geometry;   // resolved against the case file's folder
     std::vector<LatticeCase> lattices;
     std::vector<ffd::StationSpec> stations;

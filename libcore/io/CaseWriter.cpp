@@ -90,6 +90,7 @@ Json caseJson(const CaseFile& c) {
     Json doc;
     doc["format"] = "aeroform.case";
     doc["version"] = 1;
+    if (!c.description.empty()) doc["description"] = c.description;
     doc["geometry"] = storedPath(c.geometry, c.path);
     if (!c.lattices.empty()) {
         Json ls = Json::array();
@@ -158,12 +159,31 @@ Json caseJson(const CaseFile& c) {
             k["min_volume"] = *c.minVolume;
     }
     doc["constraints"] = std::move(k);
-    if (!c.outputGeometry.empty() || !c.outputVtk.empty()) {
-        Json o;
-        if (!c.outputGeometry.empty()) o["geometry"] = storedPath(c.outputGeometry, c.path);
-        if (!c.outputVtk.empty()) o["vtk"] = storedPath(c.outputVtk, c.path);
-        doc["output"] = std::move(o);
+    if (c.mesh.present) {
+        // The level names the defaults; every option the format knows is written explicitly.
+        const mesh::ExtrusionOptions& e = c.mesh.extrusion;
+        const mesh::ElasticityOptions& m = c.mesh.elasticity;
+        doc["mesh"] = {{"level", c.mesh.level},
+                       {"farfield_radius", e.farfieldRadius},
+                       {"radial_control_points", e.radialControlPoints},
+                       {"control_wall_spacing", e.controlWallSpacing},
+                       {"surface_nodes", e.surfaceNodes},
+                       {"radial_nodes", e.radialNodes},
+                       {"grid_wall_spacing", e.gridWallSpacing},
+                       {"refine", e.refine},
+                       {"increments", m.increments},
+                       {"poisson", m.poisson},
+                       {"size_stiffening", m.sizeStiffening},
+                       {"orthogonality_stiffening", m.orthogonalityStiffening},
+                       {"tolerance", m.tolerance}};
     }
+    Json o = Json::object();
+    if (!c.outputGeometry.empty()) o["geometry"] = storedPath(c.outputGeometry, c.path);
+    if (!c.outputVtk.empty()) o["vtk"] = storedPath(c.outputVtk, c.path);
+    if (!c.outputMeshVtk.empty()) o["mesh_vtk"] = storedPath(c.outputMeshVtk, c.path);
+    if (!c.outputControlVtk.empty()) o["control_vtk"] = storedPath(c.outputControlVtk, c.path);
+    if (!c.outputPlot3d.empty()) o["plot3d"] = storedPath(c.outputPlot3d, c.path);
+    if (!o.empty()) doc["output"] = std::move(o);
     return doc;
 }
 

@@ -6,8 +6,9 @@
 // written in shortest round-trip form) provided c is in the form parseCase produces: paths
 // lexically normal, station prefixes equal to their lattice's name, displacement and point
 // indices within the lattices' (unrefined) counts. Keys at their default value are written
-// anyway where that documents the case (counts, degrees, padding); optional ones are omitted
-// when absent or empty (box, patches, refine, crease, output, values, displacements).
+// anyway where that documents the case (counts, degrees, padding; every mesh option when the
+// case has a mesh section); optional ones are omitted when absent or empty (box, patches,
+// refine, crease, mesh, output, values, displacements).
 #include <string>
 
 #include "io/CaseFile.h"

@@ -112,3 +112,19 @@ TEST(CaseFile, UnknownVariablesAndOutOfBoundsValuesAreRejected) {
         EXPECT_THROW(io::buildModel(c, set), CaseError);
     }
 }
+
+TEST(CaseFile, DisplacementIndicesReferToTheRefinedLattice) {
+    // 6 points per direction, refined by 2 knots in xi and creased (multiplicity 3) at 0.5 in eta:
+    // 8 x 9 x 2 points. Indices are checked against those counts, not the unrefined ones.
+    const std::string lattice = R"("lattices": [{"counts": [6, 6, 2], "degrees": [3, 3, 1],
+        "refine": [{"direction": 0, "knots": [0.1, 0.9]}], "crease": [{"direction": 1, "at": 0.5}]}], )";
+    const io::CaseFile c = io::parseCase(kHead + lattice + R"("description": "refined",
+        "displacements": [{"index": [7, 8, 1], "delta": [0, 0, 0.1]}]})", "/cases/c.json");
+    EXPECT_EQ(c.description, "refined");
+    const ffd::FfdModel m = io::buildModel(c, geometry::makeHalfSphere());
+    EXPECT_EQ(m.lattices()[0].lattice.count, (std::array<int, 3>{8, 9, 2}));
+    const auto moved = io::movedLattices(c, m, m.design().baselineValues());
+    const int a = moved[0].index(7, 8, 1);
+    EXPECT_NEAR(moved[0].points[3 * a + 2] - m.lattices()[0].lattice.points[3 * a + 2], 0.1, 1e-15);
+    expectCaseError(lattice + R"("displacements": [{"index": [8, 0, 0], "delta": [0, 0, 0]}])", "displacements[0].index[0]");
+}

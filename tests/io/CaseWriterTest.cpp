@@ -17,6 +17,7 @@ namespace {
 
 // Field-by-field comparison (CaseFile has no operator==; NaN means "initial" volume).
 void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
+    EXPECT_EQ(a.description, b.description);
     EXPECT_EQ(a.path, b.path);
     EXPECT_EQ(a.geometry, b.geometry);
     ASSERT_EQ(a.lattices.size(), b.lattices.size());
@@ -83,6 +84,28 @@ void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
     }
     EXPECT_EQ(a.outputGeometry, b.outputGeometry);
     EXPECT_EQ(a.outputVtk, b.outputVtk);
+    EXPECT_EQ(a.outputMeshVtk, b.outputMeshVtk);
+    EXPECT_EQ(a.outputControlVtk, b.outputControlVtk);
+    EXPECT_EQ(a.outputPlot3d, b.outputPlot3d);
+    EXPECT_EQ(a.mesh.present, b.mesh.present);
+    EXPECT_EQ(a.mesh.level, b.mesh.level);
+    const mesh::ExtrusionOptions &e = a.mesh.extrusion, &f = b.mesh.extrusion;
+    EXPECT_EQ(e.farfieldRadius, f.farfieldRadius);
+    EXPECT_EQ(e.radialControlPoints, f.radialControlPoints);
+    EXPECT_EQ(e.radialDegree, f.radialDegree);
+    EXPECT_EQ(e.controlWallSpacing, f.controlWallSpacing);
+    EXPECT_EQ(e.surfaceNodes, f.surfaceNodes);
+    EXPECT_EQ(e.radialNodes, f.radialNodes);
+    EXPECT_EQ(e.gridWallSpacing, f.gridWallSpacing);
+    EXPECT_EQ(e.refine, f.refine);
+    EXPECT_EQ(e.symmetryTolerance, f.symmetryTolerance);
+    const mesh::ElasticityOptions &m = a.mesh.elasticity, &n = b.mesh.elasticity;
+    EXPECT_EQ(m.poisson, n.poisson);
+    EXPECT_EQ(m.increments, n.increments);
+    EXPECT_EQ(m.sizeStiffening, n.sizeStiffening);
+    EXPECT_EQ(m.orthogonalityStiffening, n.orthogonalityStiffening);
+    EXPECT_EQ(m.tolerance, n.tolerance);
+    EXPECT_EQ(m.maxIterations, n.maxIterations);
 }
 
 std::string slurp(const std::string& path) {
@@ -132,7 +155,11 @@ const char* kEveryKey = R"({
   ],
   "embedding": {"tolerance": 1e-10, "max_iterations": 77, "allow_outside": true},
   "constraints": {"symmetry": false, "station_gap": 0.02, "min_volume": 1.75},
-  "output": {"geometry": "out/wing_deformed.json", "vtk": "/elsewhere/wing.vtm"}
+  "mesh": {"level": "medium", "farfield_radius": 12.5, "radial_control_points": 9, "control_wall_spacing": 0.003,
+           "surface_nodes": 11, "radial_nodes": 21, "grid_wall_spacing": 0.0007, "refine": 1.5, "increments": 4,
+           "poisson": 0.1, "size_stiffening": 2, "orthogonality_stiffening": 0.5, "tolerance": 1e-9},
+  "output": {"geometry": "out/wing_deformed.json", "vtk": "/elsewhere/wing.vtm", "mesh_vtk": "out/grid.vtm",
+             "control_vtk": "out/control.vtm", "plot3d": "out/grid.xyz"}
 })";
 
 }  // namespace
@@ -162,6 +189,9 @@ TEST(CaseWriter, EveryKeyRoundTripsExactly) {
     ASSERT_EQ(c.displacements.size(), 2u);
     EXPECT_EQ(c.geometry, "/projects/wing/geometry/wing.igs");
     EXPECT_EQ(c.outputVtk, "/elsewhere/wing.vtm");
+    ASSERT_TRUE(c.mesh.present);
+    EXPECT_EQ(c.mesh.extrusion.surfaceNodes, 11);
+    EXPECT_EQ(c.outputPlot3d, "/projects/wing/out/grid.xyz");
 
     const std::string text = io::formatCase(c);
     const io::CaseFile back = io::parseCase(text, c.path);
@@ -173,6 +203,19 @@ TEST(CaseWriter, EveryKeyRoundTripsExactly) {
     // Lattices are referred to by name; patches are 1-based in the file.
     EXPECT_NE(text.find("\"lattice\": \"tip\""), std::string::npos) << text;
     EXPECT_NE(text.find("\"patches\": [1, 3, 20]"), std::string::npos) << text;
+}
+
+TEST(CaseWriter, MeshLevelAloneRoundTrips) {
+    for (const char* level : {"coarse", "medium", "paper"}) {
+        SCOPED_TRACE(level);
+        const io::CaseFile c = io::parseCase(std::string(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs",
+                                                            "mesh": {"level": ")") + level + "\"}}",
+                                             "/p/c.json");
+        expectSameCase(io::parseCase(io::formatCase(c), c.path), c);
+    }
+    // Without a mesh section none is written.
+    const io::CaseFile plain = io::parseCase(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs"})", "/p/c.json");
+    EXPECT_EQ(io::formatCase(plain).find("\"mesh\""), std::string::npos);
 }
 
 TEST(CaseWriter, RelativeCasePathsStayConsistent) {

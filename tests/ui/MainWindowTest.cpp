@@ -17,66 +17,37 @@
 #include <QTest>
 #include <QVBoxLayout>
 #include <QWheelEvent>
+#include <QGroupBox>
+#include <QMessageBox>
+#include <QSpinBox>
+#include <QMimeData>
+#include <QPushButton>
+#include <QTimer>
+#include <QTreeWidgetItem>
+#include <QUndoStack>
+#include <QUrl>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
 
+#include "Document.h"
+#include "LatticeScene.h"
+#include "LatticeDialog.h"
 #include "MainWindow.h"
+#include "ModelTree.h"
+#include "Selection.h"
 #include "PatchScene.h"
 #include "VtkViewport.h"
 #include "cad/Iges.h"
 #include "geometry/HalfSphere.h"
 #include "io/PatchSetJson.h"
+#include "UiTestSupport.h"
 
 using aero::ui::MainWindow;
+using namespace aero::uitest;
 
 namespace {
-
-const QString kScreenshotDir = QStringLiteral(AEROFORM_UI_SCREENSHOT_DIR);
-
-struct PixelStats {
-    double differingShare = 0;  // share of pixels that differ from the reference
-    double meanLuma = 0;        // over the differing pixels
-    double lumaStdDev = 0;      // over the differing pixels (shading varies across a sphere)
-};
-
-int luma(QRgb c) {
-    return (299 * qRed(c) + 587 * qGreen(c) + 114 * qBlue(c)) / 1000;
-}
-
-// Compares two frames of the same size pixel by pixel; a pixel "differs" when any channel
-// differs by more than `tolerance`.
-PixelStats compare(const QImage& image, const QImage& reference, int tolerance = 24) {
-    PixelStats s;
-    const QImage a = image.convertToFormat(QImage::Format_RGB32);
-    const QImage b = reference.convertToFormat(QImage::Format_RGB32);
-    long long count = 0;
-    double sum = 0, sum2 = 0;
-    for (int y = 0; y < a.height(); ++y) {
-        const auto* ra = reinterpret_cast<const QRgb*>(a.constScanLine(y));
-        const auto* rb = reinterpret_cast<const QRgb*>(b.constScanLine(y));
-        for (int x = 0; x < a.width(); ++x) {
-            const int d = std::max({std::abs(qRed(ra[x]) - qRed(rb[x])),
-                                    std::abs(qGreen(ra[x]) - qGreen(rb[x])),
-                                    std::abs(qBlue(ra[x]) - qBlue(rb[x]))});
-            if (d > tolerance) {
-                ++count;
-                const double l = luma(ra[x]);
-                sum += l;
-                sum2 += l * l;
-            }
-        }
-    }
-    const double n = static_cast<double>(a.width()) * a.height();
-    s.differingShare = n > 0 ? static_cast<double>(count) / n : 0;
-    if (count > 0) {
-        s.meanLuma = sum / static_cast<double>(count);
-        s.lumaStdDev =
-            std::sqrt(std::max(0.0, sum2 / static_cast<double>(count) - s.meanLuma * s.meanLuma));
-    }
-    return s;
-}
 
 std::array<double, 3> cameraPosition(MainWindow& w) {
     std::array<double, 3> p{};
@@ -87,12 +58,6 @@ std::array<double, 3> cameraPosition(MainWindow& w) {
 double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
     return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
                      (a[2] - b[2]) * (a[2] - b[2]));
-}
-
-void sendMouse(QWidget* w, QEvent::Type type, QPointF pos, Qt::MouseButton button,
-               Qt::MouseButtons buttons) {
-    QMouseEvent e(type, pos, w->mapToGlobal(pos), button, buttons, Qt::NoModifier);
-    QApplication::sendEvent(w, &e);
 }
 
 }  // namespace
@@ -113,6 +78,11 @@ class MainWindowTest : public QObject {
     void badFileKeepsScene();
     void opensJsonAndIges();
     void viewportSurvivesNewContext();
+    void treeTogglesPatchVisibility();
+    void droppedFileIsOpened();
+    void closeAsksAboutUnsavedChanges();
+    void meshPreviewWaitsForTheMeshLayer();
+    void latticeDialogDescribesTheLattice();
 
   private:
     QImage renderNow() {
@@ -135,7 +105,10 @@ void MainWindowTest::initTestCase() {
             "test_ui needs an X display: DISPLAY is not set (or QT_QPA_PLATFORM is offscreen). "
             "Run it under xvfb-run -a -s \"-screen 0 1280x800x24\".");
     QDir().mkpath(kScreenshotDir);
-    window_ = std::make_unique<MainWindow>();
+    MainWindow::Options options;
+    options.autosave = false;
+    options.recentFiles = false;
+    window_ = std::make_unique<MainWindow>(options);
     window_->resize(1000, 700);
     window_->show();
     QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
@@ -316,15 +289,116 @@ void MainWindowTest::viewportSurvivesNewContext() {
     vp->doneCurrent();
 }
 
-int main(int argc, char** argv) {
-    // Without an X display QApplication could not even start on xcb; start it offscreen then
-    // (no OpenGL widget is created) and let initTestCase skip with a clear message.
-    const QByteArray platform = qgetenv("QT_QPA_PLATFORM");
-    const bool canRender = !qEnvironmentVariableIsEmpty("DISPLAY") &&
-                           !platform.startsWith("offscreen") && !platform.startsWith("minimal");
-    if (!canRender) qputenv("QT_QPA_PLATFORM", "offscreen");
-    QSurfaceFormat::setDefaultFormat(aero::ui::VtkViewport::defaultFormat());
-    QApplication app(argc, argv);
+void MainWindowTest::treeTogglesPatchVisibility() {
+    QString error;
+    QVERIFY2(window_->loadSample(&error), qPrintable(error));
+    aero::ui::ModelTree& tree = window_->modelTree();
+    QCOMPARE(tree.geometryItem()->childCount(), 20);
+    QCOMPARE(tree.latticesItem()->childCount(), 1);
+    QVERIFY(tree.gridItem() != nullptr);
+    const QImage all = renderNow();
+    for (int p = 0; p < 8; ++p) tree.patchItem(p)->setCheckState(0, Qt::Unchecked);
+    QVERIFY(!window_->scene().patchVisible(0));
+    QVERIFY(window_->scene().patchVisible(8));
+    const QImage some = renderNow();
+    QVERIFY(some.save(kScreenshotDir + QStringLiteral("/main_window_patches_hidden.png")));
+    QVERIFY2(compare(some, all).differingShare > 0.01, "hiding patches did not change the picture");
+    for (int p = 0; p < 8; ++p) tree.patchItem(p)->setCheckState(0, Qt::Checked);
+    QVERIFY(compare(renderNow(), all).differingShare < 0.001);
+    // The lattice check box hides the lattice (and the View action follows the whole group).
+    tree.latticesItem()->setCheckState(0, Qt::Unchecked);
+    QVERIFY(!window_->latticeScene().visible());
+    QVERIFY(!action("actionLattices")->isChecked());
+    action("actionLattices")->setChecked(true);
+    QCOMPARE(tree.latticesItem()->checkState(0), Qt::Checked);
+    // Selecting patches in the tree selects them (and tints them in the view).
+    tree.clearSelection();
+    tree.patchItem(2)->setSelected(true);
+    tree.patchItem(3)->setSelected(true);
+    QCOMPARE(window_->selection().kind(), aero::ui::Selection::Kind::Patches);
+    QCOMPARE(window_->selection().patches(), (std::vector<int>{2, 3}));
+    tree.clearSelection();
+}
+
+void MainWindowTest::droppedFileIsOpened() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("dropped.json"));
+    aero::io::writePatchSetJson(aero::geometry::makeHalfSphere(), path.toStdString());
+    QMimeData mime;
+    mime.setUrls({QUrl::fromLocalFile(path)});
+    const QPoint at(window_->width() / 2, window_->height() / 2);
+    QDragEnterEvent enter(at, Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(window_.get(), &enter);
+    QVERIFY(enter.isAccepted());
+    QDropEvent drop(QPointF(at), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(window_.get(), &drop);
+    QTRY_VERIFY(window_->windowTitle().startsWith(QStringLiteral("dropped.json")));
+    QCOMPARE(window_->document().latticeCount(), 0);
+    // Other files are refused.
+    QMimeData other;
+    other.setUrls({QUrl::fromLocalFile(dir.filePath(QStringLiteral("mesh.stl")))});
+    QDragEnterEvent refused(at, Qt::CopyAction, &other, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(window_.get(), &refused);
+    QVERIFY(!refused.isAccepted());
+    QString error;
+    QVERIFY2(window_->loadSample(&error), qPrintable(error));
+}
+
+void MainWindowTest::closeAsksAboutUnsavedChanges() {
+    aero::ui::Document& doc = window_->document();
+    doc.setDesignValue(doc.model()->design().find("body.S2.tx"), 0.2);
+    QVERIFY(window_->isWindowModified());
+    QString asked;
+    QTimer::singleShot(0, this, [&asked] {
+        auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+        if (!box) return;
+        asked = box->text();
+        box->button(QMessageBox::Cancel)->click();
+    });
+    QVERIFY2(!window_->close(), "the window closed with unsaved changes");
+    QVERIFY2(asked.contains(QStringLiteral("unsaved changes")), qPrintable(asked));
+    QVERIFY(window_->isVisible());
+    doc.undoStack()->undo();
+    QVERIFY(!window_->isWindowModified());
+}
+
+void MainWindowTest::meshPreviewWaitsForTheMeshLayer() {
+    QAction* preview = action("actionMeshPreview");
+    QVERIFY(preview != nullptr);
+    QVERIFY(!preview->isEnabled());
+    QCOMPARE(preview->toolTip(), QStringLiteral("needs the mesh layer"));
+    QVERIFY(!action("actionExportGrid")->isEnabled());
+}
+
+void MainWindowTest::latticeDialogDescribesTheLattice() {
+    aero::ui::LatticeDialog dialog(QStringLiteral("wing"), {4, 5, 6});
+    dialog.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dialog));
+    QVERIFY(dialog.grab().save(kScreenshotDir + QStringLiteral("/lattice_dialog.png")));
+    const QList<QSpinBox*> ints = dialog.findChildren<QSpinBox*>();
+    QCOMPARE(ints.size(), 6);  // counts x3, degrees x3
+    auto lattice = dialog.lattice();
+    QCOMPARE(lattice.name, std::string("wing"));
+    QCOMPARE(lattice.counts, (std::array<int, 3>{6, 6, 2}));  // the paper's default
+    QCOMPARE(lattice.degrees, (std::array<int, 3>{3, 3, 1}));
+    QCOMPARE(lattice.patches, (std::vector<int>{4, 5, 6}));   // the selection is offered first
+    QVERIFY(!dialog.stations().has_value());
+    auto* stations = dialog.findChild<QGroupBox*>();
+    for (QGroupBox* box : dialog.findChildren<QGroupBox*>())
+        if (box->isCheckable()) stations = box;
+    stations->setChecked(true);
+    const auto spec = dialog.stations();
+    QVERIFY(spec.has_value());
+    QCOMPARE(spec->direction, 1);
+    QCOMPARE(spec->bits, std::vector<std::string>(6, "011"));  // X and Y translations, 6 stations
+    // Raising a degree raises the minimum count with it.
+    ints[3]->setValue(5);  // degree in X
+    QCOMPARE(ints[0]->minimum(), 6);
+    ints[3]->setValue(6);
+    QCOMPARE(ints[0]->value(), 7);
+}
+
+int runMainWindowTest(int argc, char** argv, bool canRender) {
     MainWindowTest test(canRender);
     return QTest::qExec(&test, argc, argv);
 }

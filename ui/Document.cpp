@@ -1,0 +1,646 @@
+#include "Document.h"
+
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QUndoCommand>
+#include <QUndoStack>
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <vector>
+
+#include "cad/Iges.h"
+#include "common/Error.h"
+#include "Text.h"
+#include "geometry/HalfSphere.h"
+#include "io/CaseWriter.h"
+#include "io/GeometryVtk.h"
+#include "io/PatchSetJson.h"
+
+namespace aero::ui {
+
+namespace {
+
+// The paper's first FFD level around the half-sphere (samples/half_sphere_ffd.json without its
+// outputs): a 6x6x2 lattice, cubic in X and Y, linear in Z, six spanwise stations, 89 variables.
+constexpr const char* kPaperCase = R"({
+  "format": "aeroform.case", "version": 1, "geometry": "",
+  "lattices": [{"name": "body", "counts": [6, 6, 2], "degrees": [3, 3, 1], "padding": [0.05, 0.0, 0.05]}],
+  "design_variables": {"stations": [{
+    "lattice": "body", "direction": 1, "bits": ["001", "011", "011", "011", "011", "011"],
+    "section_scaling": true, "taper": true, "vertical": "z", "streamwise": "x",
+    "translation_bound": 3.0, "scaling_bounds": [0.2, 2.0], "taper_bounds": [0.3, 2.0]}]},
+  "embedding": {"tolerance": 1e-12, "allow_outside": false},
+  "constraints": {"symmetry": true, "station_gap": 0.05, "min_volume": "initial"}
+})";
+
+// Undo command ids (QUndoCommand::id): only commands of the same id can merge.
+constexpr int kSetValueId = 1;
+
+std::string toStd(const QString& path) {
+    return QFile::encodeName(path).toStdString();
+}
+QString fromStd(const std::string& path) {
+    return QFile::decodeName(QByteArray::fromStdString(path));
+}
+
+std::string lowerExtension(const std::string& path) {
+    return QFileInfo(fromStd(path)).suffix().toLower().toStdString();
+}
+
+// Patch set from .json (native), .igs/.iges; other names are sniffed (JSON starts with '{').
+geometry::PatchSet loadGeometry(const std::string& path, QString* message) {
+    std::string ext = lowerExtension(path);
+    if (ext != "json" && ext != "igs" && ext != "iges") {
+        std::ifstream in(path);
+        if (!in) throw InputError("cannot open geometry file '" + path + "'");
+        char c = ' ';
+        while (in.get(c) && std::isspace(static_cast<unsigned char>(c))) {
+        }
+        ext = c == '{' ? "json" : "igs";
+    }
+    if (ext == "json") return io::readPatchSetJson(path);
+    cad::IgesReadReport report;
+    geometry::PatchSet set = cad::readIges(path, &report);
+    if (message && (report.converted > 0 || report.trimmed > 0 || !report.warnings.empty())) {
+        *message = QObject::tr("IGES: %1 faces, %2 converted to B-splines, %3 trimmed (untrimmed surface shown), %4 warnings")
+                       .arg(report.faces)
+                       .arg(report.converted)
+                       .arg(report.trimmed)
+                       .arg(static_cast<int>(report.warnings.size()));
+    }
+    return set;
+}
+
+// Canonical text of everything the FFD model is built from: two cases with the same key build
+// the same model (values, displacements, constraints and outputs do not matter).
+std::string modelKey(const io::CaseFile& c) {
+    io::CaseFile k;
+    k.lattices = c.lattices;
+    k.stations = c.stations;
+    k.pointVariables = c.pointVariables;
+    k.embedding = c.embedding;
+    return io::formatCase(k);
+}
+
+std::array<int, 3> unflatten(const ffd::Lattice& L, int a) {
+    return {a % L.count[0], (a / L.count[0]) % L.count[1], a / (L.count[0] * L.count[1])};
+}
+
+QString formatPoint(const std::array<double, 3>& x) {
+    return QStringLiteral("(%1, %2, %3)").arg(x[0], 0, 'g', 4).arg(x[1], 0, 'g', 4).arg(x[2], 0, 'g', 4);
+}
+
+// The state a case builds to. Computed completely before anything is committed.
+struct Built {
+    std::unique_ptr<ffd::FfdModel> model;  // null: reuse the current model (or none)
+    bool hasModel = false;
+    std::string key;
+    std::vector<double> values;
+    std::vector<ffd::Lattice> moved;
+};
+
+Built build(const io::CaseFile& c, const geometry::PatchSet& baseline, const ffd::FfdModel* current,
+            const std::string& currentKey) {
+    Built b;
+    if (c.lattices.empty()) return b;
+    b.hasModel = true;
+    b.key = modelKey(c);
+    const ffd::FfdModel* m = current;
+    if (!current || b.key != currentKey) {
+        b.model = std::make_unique<ffd::FfdModel>(io::buildModel(c, baseline));
+        m = b.model.get();
+    }
+    b.values = io::designValues(c, *m);
+    b.moved = io::movedLattices(c, *m, b.values);
+    return b;
+}
+
+}  // namespace
+
+// ---- Undo commands --------------------------------------------------------------------------
+
+/// Every edit swaps the whole case: undo and redo re-derive the state from it, exactly.
+class CaseEditCommand : public QUndoCommand {
+  public:
+    CaseEditCommand(Document* doc, const QString& text, io::CaseFile before, io::CaseFile after)
+        : QUndoCommand(text), doc_(doc), before_(std::move(before)), after_(std::move(after)) {}
+
+    void redo() override {
+        if (firstRedo_) {  // the document already shows `after` (it was validated by applying it)
+            firstRedo_ = false;
+            return;
+        }
+        apply(after_);
+    }
+    void undo() override { apply(before_); }
+
+    const io::CaseFile& afterState() const { return after_; }
+
+  protected:
+    void setAfterState(const io::CaseFile& after) { after_ = after; }
+
+  private:
+    void apply(const io::CaseFile& c) {
+        try {
+            doc_->applyCase(c);
+        } catch (const aero::Error& e) {  // both states were valid once: not expected
+            qWarning("undo/redo failed: %s", e.what());
+        }
+    }
+
+    Document* doc_;
+    io::CaseFile before_, after_;
+    bool firstRedo_ = true;
+};
+
+/// A design-variable change; consecutive changes of one variable within one gesture (a slider
+/// drag) merge into a single undo step.
+class SetDesignValueCommand : public CaseEditCommand {
+  public:
+    SetDesignValueCommand(Document* doc, const QString& text, io::CaseFile before, io::CaseFile after, qint64 mergeKey)
+        : CaseEditCommand(doc, text, std::move(before), std::move(after)), mergeKey_(mergeKey) {}
+
+    int id() const override { return kSetValueId; }
+    bool mergeWith(const QUndoCommand* other) override {
+        const auto* o = static_cast<const SetDesignValueCommand*>(other);
+        if (mergeKey_ == 0 || o->mergeKey_ != mergeKey_) return false;
+        setAfterState(o->afterState());
+        setText(o->text());
+        return true;
+    }
+
+  private:
+    qint64 mergeKey_;
+};
+
+// ---- Document -------------------------------------------------------------------------------
+
+struct Document::Loaded {
+    io::CaseFile c;
+    std::unique_ptr<geometry::PatchSet> baseline;
+    bool generated = false;
+    QString title;
+    QString message;
+};
+
+Document::Document(QObject* parent) : QObject(parent), undo_(new QUndoStack(this)) {
+    connect(undo_, &QUndoStack::cleanChanged, this, [this] { setForceModified(forceModified_); });
+}
+
+Document::~Document() = default;
+
+bool Document::hasGeometry() const {
+    return baseline_ != nullptr;
+}
+
+const geometry::PatchSet& Document::baseline() const {
+    static const geometry::PatchSet kEmpty;
+    return baseline_ ? *baseline_ : kEmpty;
+}
+
+const geometry::PatchSet& Document::shape() const {
+    return shape_ ? *shape_ : baseline();
+}
+
+QString Document::projectPath() const {
+    return fromStd(case_.path);
+}
+
+bool Document::isModified() const {
+    return forceModified_ || !undo_->isClean();
+}
+
+void Document::setForceModified(bool on) {
+    forceModified_ = on;
+    const bool now = isModified();
+    if (now != lastModified_) {
+        lastModified_ = now;
+        emit modifiedChanged(now);
+    }
+}
+
+void Document::setTitle(const QString& title) {
+    title_ = title;
+    emit titleChanged();
+}
+
+QStringList Document::problems() const {
+    QStringList out;
+    for (std::size_t l = 0; l < reports_.size() && l < case_.lattices.size(); ++l) {
+        const ffd::InjectivityReport& r = reports_[l];
+        if (r.injective) continue;
+        out << tr("Lattice '%1' is not injective: det J changes sign near %2, so the geometry inside can fold "
+                  "over itself (highlighted in red). Move the points back or undo.")
+                   .arg(QString::fromStdString(case_.lattices[l].name), formatPoint(r.minPoint));
+    }
+    if (model_) {
+        int outside = 0, notConverged = 0;
+        for (const auto& f : model_->summary().failures) (f.outside ? outside : notConverged) += 1;
+        if (outside > 0)
+            out << tr("%1 lie outside every lattice and do not follow the deformation (highlighted in "
+                      "magenta). Enlarge the lattice padding.")
+                       .arg(counted(outside, tr("control point"), tr("control points")));
+        if (notConverged > 0)
+            out << tr("%1 could not be embedded (no convergence) and stay fixed.")
+                       .arg(counted(notConverged, tr("control point"), tr("control points")));
+    }
+    return out;
+}
+
+std::vector<double> Document::failedPoints() const {
+    std::vector<double> out;
+    if (!model_) return out;
+    for (const auto& f : model_->summary().failures)
+        for (int k = 0; k < 3; ++k) out.push_back(model_->index().points[3 * static_cast<std::size_t>(f.point) + k]);
+    return out;
+}
+
+geometry::PatchSet Document::shapeDerivative(int var) const {
+    if (!model_ || !baseline_ || var < 0 || var >= model_->design().size()) return {};
+    if (!dAdv_) dAdv_ = std::make_unique<Eigen::SparseMatrix<double>>(model_->dUniqueDv());
+    std::vector<double> column(3 * static_cast<std::size_t>(model_->index().uniqueCount()), 0.0);
+    for (Eigen::SparseMatrix<double>::InnerIterator it(*dAdv_, var); it; ++it)
+        column[static_cast<std::size_t>(it.row())] = it.value();
+    geometry::PatchSet d = *baseline_;
+    ffd::scatter(model_->index(), column, d);
+    return d;
+}
+
+std::array<double, 3> Document::displacement(int l, int point) const {
+    if (l < 0 || l >= static_cast<int>(committed_.size())) return {0, 0, 0};
+    const auto idx = unflatten(committed_[static_cast<std::size_t>(l)], point);
+    for (const auto& d : case_.displacements)
+        if (d.lattice == l && d.index == idx) return d.delta;
+    return {0, 0, 0};
+}
+
+// ---- Loading ----------------------------------------------------------------------------------
+
+void Document::adopt(Loaded&& in) {
+    Built b = build(in.c, *in.baseline, nullptr, {});
+    // Committed from here on (nothing below throws).
+    undo_->clear();
+    case_ = std::move(in.c);
+    baseline_ = std::move(in.baseline);
+    model_ = std::move(b.model);
+    modelKey_ = b.hasModel ? b.key : std::string();
+    dAdv_.reset();
+    values_ = std::move(b.values);
+    committed_ = b.moved;
+    moved_.clear();
+    shape_.reset();
+    reports_.clear();
+    previewing_ = false;
+    generated_ = in.generated;
+    // A project's own geometry file (written by an earlier save) travels with it on Save As.
+    sidecar_ = false;
+    if (!case_.path.empty() && !case_.geometry.empty()) {
+        const QFileInfo project(fromStd(case_.path));
+        sidecar_ = QFileInfo(fromStd(case_.geometry)).absoluteFilePath() ==
+                   project.absoluteDir().filePath(project.completeBaseName() + QStringLiteral(".geometry.json"));
+    }
+    loadMessage_ = in.message;
+    ++revision_;
+    title_ = in.title;
+    showLattices(std::move(b.moved));
+    emit reset();
+    emit titleChanged();
+    setForceModified(false);
+}
+
+void Document::newFromGeometry(const QString& path) {
+    Loaded in;
+    const std::string file = toStd(QFileInfo(path).absoluteFilePath());
+    in.baseline = std::make_unique<geometry::PatchSet>(loadGeometry(file, &in.message));
+    geometry::validate(*in.baseline);
+    in.c.geometry = file;
+    in.title = QFileInfo(path).fileName();
+    adopt(std::move(in));
+}
+
+void Document::newFromSample(bool withPaperLattice) {
+    Loaded in;
+    if (withPaperLattice) in.c = io::parseCase(kPaperCase, "");
+    in.c.geometry.clear();
+    in.c.path.clear();
+    in.baseline = std::make_unique<geometry::PatchSet>(geometry::makeHalfSphere());
+    in.generated = true;
+    in.title = tr("Half-sphere (sample)");
+    adopt(std::move(in));
+}
+
+void Document::openProject(const QString& path) {
+    Loaded in;
+    in.c = io::readCase(toStd(QFileInfo(path).absoluteFilePath()));
+    in.baseline = std::make_unique<geometry::PatchSet>(loadGeometry(in.c.geometry, &in.message));
+    geometry::validate(*in.baseline);
+    in.title = QFileInfo(path).fileName();
+    adopt(std::move(in));
+}
+
+void Document::recover(const QString& autosavedCase, const QString& projectPath, bool generated, const QString& title) {
+    Loaded in;
+    in.c = io::readCase(toStd(autosavedCase));
+    in.baseline = std::make_unique<geometry::PatchSet>(loadGeometry(in.c.geometry, &in.message));
+    geometry::validate(*in.baseline);
+    in.generated = generated;
+    if (generated) in.c.geometry.clear();  // saving writes it next to the project again
+    in.c.path = projectPath.isEmpty() ? std::string() : toStd(QFileInfo(projectPath).absoluteFilePath());
+    in.title = title.isEmpty() ? QFileInfo(autosavedCase).fileName() : title;
+    adopt(std::move(in));
+    setForceModified(true);  // recovered work is not saved anywhere yet
+}
+
+void Document::saveProject(const QString& qpath) {
+    if (!baseline_) throw InputError("nothing to save: no geometry is loaded");
+    const QFileInfo info(qpath);
+    const std::string path = toStd(info.absoluteFilePath());
+    io::CaseFile c = case_;
+    std::string geometryWritten;
+    const std::string sidecar = toStd(info.absoluteDir().filePath(info.completeBaseName() + QStringLiteral(".geometry.json")));
+    if (generated_ || c.geometry.empty() || (sidecar_ && c.geometry != sidecar)) {
+        io::writePatchSetJson(*baseline_, sidecar);
+        geometryWritten = sidecar;
+        c.geometry = sidecar;
+    }
+    io::writeCase(c, path);
+    case_.geometry = c.geometry;
+    case_.path = path;
+    sidecar_ = sidecar_ || generated_ || !geometryWritten.empty();
+    generated_ = false;
+    undo_->setClean();
+    setForceModified(false);
+    setTitle(info.fileName());
+    if (!geometryWritten.empty())
+        loadMessage_ = tr("The generated geometry was saved as %1 next to the project.")
+                           .arg(QFileInfo(fromStd(geometryWritten)).fileName());
+}
+
+void Document::writeAutosave(const QString& casePath, const QString& geometryPath) const {
+    if (!baseline_) return;
+    io::CaseFile c = case_;
+    if (generated_ || c.geometry.empty()) {
+        io::writePatchSetJson(*baseline_, toStd(geometryPath));
+        c.geometry = toStd(QFileInfo(geometryPath).absoluteFilePath());
+    }
+    io::writeCase(c, toStd(QFileInfo(casePath).absoluteFilePath()));
+}
+
+void Document::exportGeometry(const QString& qpath) const {
+    if (!baseline_) throw InputError("nothing to export: no geometry is loaded");
+    const std::string path = toStd(qpath);
+    const std::string ext = lowerExtension(path);
+    const geometry::PatchSet deformed = model_ ? model_->deformWith(committed_) : *baseline_;
+    if (ext == "igs" || ext == "iges")
+        cad::writeIges(deformed, path);
+    else if (ext == "json")
+        io::writePatchSetJson(deformed, path);
+    else
+        throw InputError("'" + path + "': unknown extension (use .igs, .iges or .json)");
+}
+
+void Document::exportVtk(const QString& qpath) const {
+    if (!baseline_) throw InputError("nothing to export: no geometry is loaded");
+    const geometry::PatchSet deformed = model_ ? model_->deformWith(committed_) : *baseline_;
+    std::vector<ffd::Lattice> base;
+    if (model_)
+        for (const auto& spec : model_->lattices()) base.push_back(spec.lattice);
+    io::writeVtm(toStd(qpath), io::geometryBlocks(deformed, baseline_.get(), committed_, &base));
+}
+
+// ---- Applying a case ---------------------------------------------------------------------------
+
+void Document::applyCase(const io::CaseFile& nextIn) {
+    if (!baseline_) throw InputError("no geometry is loaded");
+    io::CaseFile next = nextIn;
+    next.path = case_.path;  // the project's location and geometry are not part of edits
+    next.geometry = case_.geometry;
+    Built b = build(next, *baseline_, model_.get(), modelKey_);
+    const bool structure = b.model != nullptr || (!b.hasModel && model_ != nullptr);
+    const bool valuesDiffer = b.values != values_;
+    case_ = std::move(next);
+    if (b.model) {
+        model_ = std::move(b.model);
+        modelKey_ = b.key;
+        dAdv_.reset();
+    } else if (!b.hasModel) {
+        model_.reset();
+        modelKey_.clear();
+        dAdv_.reset();
+    }
+    values_ = std::move(b.values);
+    committed_ = b.moved;
+    previewing_ = false;
+    ++revision_;
+    if (structure) emit structureChanged();
+    if (valuesDiffer || structure) emit valuesChanged();
+    showLattices(std::move(b.moved));
+}
+
+void Document::showLattices(std::vector<ffd::Lattice> moved) {
+    auto next = std::make_unique<geometry::PatchSet>(model_ ? model_->deformWith(moved) : *baseline_);
+    std::vector<ffd::InjectivityReport> reports;
+    reports.reserve(moved.size());
+    for (const auto& L : moved) reports.push_back(ffd::checkInjectivity(L));
+
+    QVector<int> changed;
+    const bool sameLayout = shape_ && shape_->size() == next->size();
+    for (int p = 0; p < next->size(); ++p) {
+        const auto& np = next->patches[static_cast<std::size_t>(p)];
+        if (!sameLayout || shape_->patches[static_cast<std::size_t>(p)].points != np.points) changed.push_back(p);
+    }
+    shape_ = std::move(next);
+    moved_ = std::move(moved);
+    reports_ = std::move(reports);
+    emit latticesMoved();
+    if (!changed.isEmpty()) emit shapeChanged(changed);
+    emit diagnosticsChanged();
+}
+
+void Document::edit(const QString& text, const io::CaseFile& next) {
+    io::CaseFile before = case_;
+    applyCase(next);  // throws: nothing changed, nothing pushed
+    undo_->push(new CaseEditCommand(this, text, std::move(before), case_));
+}
+
+// ---- Edits ------------------------------------------------------------------------------------
+
+void Document::addLattice(const io::LatticeCase& lattice, const std::optional<ffd::StationSpec>& stations) {
+    for (const auto& l : case_.lattices)
+        if (l.name == lattice.name) throw CaseError("a lattice named '" + lattice.name + "' exists already");
+    if (lattice.name.empty()) throw CaseError("a lattice needs a name");
+    io::CaseFile next = case_;
+    next.lattices.push_back(lattice);
+    if (stations) {
+        ffd::StationSpec s = *stations;
+        s.lattice = static_cast<int>(next.lattices.size()) - 1;
+        s.prefix = lattice.name;
+        next.stations.push_back(std::move(s));
+    }
+    edit(tr("Add lattice '%1'").arg(QString::fromStdString(lattice.name)), next);
+}
+
+void Document::editLattice(int l, const io::LatticeCase& lattice) {
+    if (l < 0 || l >= latticeCount()) return;
+    for (int k = 0; k < latticeCount(); ++k)
+        if (k != l && case_.lattices[static_cast<std::size_t>(k)].name == lattice.name)
+            throw CaseError("a lattice named '" + lattice.name + "' exists already");
+    if (lattice.name.empty()) throw CaseError("a lattice needs a name");
+    io::CaseFile next = case_;
+    const std::string oldName = next.lattices[static_cast<std::size_t>(l)].name;
+    next.lattices[static_cast<std::size_t>(l)] = lattice;
+    int dropped = 0;
+    auto fits = [&](const std::array<int, 3>& idx) {
+        for (int d = 0; d < 3; ++d)
+            if (idx[static_cast<std::size_t>(d)] >= lattice.counts[static_cast<std::size_t>(d)]) return false;
+        return true;
+    };
+    std::erase_if(next.displacements, [&](const io::DisplacementCase& d) {
+        const bool drop = d.lattice == l && !fits(d.index);
+        dropped += drop ? 1 : 0;
+        return drop;
+    });
+    std::erase_if(next.pointVariables, [&](const io::PointVariableCase& p) {
+        const bool drop = p.lattice == l && !fits(p.index);
+        dropped += drop ? 1 : 0;
+        return drop;
+    });
+    std::erase_if(next.stations, [&](const ffd::StationSpec& s) {
+        const bool drop = s.lattice == l && !s.bits.empty() &&
+                          static_cast<int>(s.bits.size()) != lattice.counts[static_cast<std::size_t>(s.direction)];
+        dropped += drop ? 1 : 0;
+        return drop;
+    });
+    for (auto& s : next.stations)
+        if (s.lattice == l) s.prefix = lattice.name;
+    // Values follow a renamed lattice; values of variables that no longer exist are dropped.
+    std::map<std::string, double> values;
+    for (const auto& [name, value] : next.values) {
+        if (oldName != lattice.name && name.rfind(oldName + ".", 0) == 0)
+            values[lattice.name + name.substr(oldName.size())] = value;
+        else
+            values[name] = value;
+    }
+    next.values.clear();
+    const ffd::FfdModel probe = io::buildModel(next, *baseline_);
+    for (const auto& [name, value] : values) {
+        const int i = probe.design().find(name);
+        if (i < 0) continue;
+        const auto& var = probe.design().variables()[static_cast<std::size_t>(i)];
+        if (value >= var.lower && value <= var.upper) next.values[name] = value;
+    }
+    const int lostValues = static_cast<int>(values.size() - next.values.size());
+    QString text = tr("Edit lattice '%1'").arg(QString::fromStdString(lattice.name));
+    if (dropped + lostValues > 0) text += tr(" (dropped %1 that no longer fit)").arg(counted(dropped + lostValues, tr("item"), tr("items")));
+    edit(text, next);
+}
+
+void Document::removeLattice(int l) {
+    if (l < 0 || l >= latticeCount()) return;
+    io::CaseFile next = case_;
+    const std::string name = next.lattices[static_cast<std::size_t>(l)].name;
+    next.lattices.erase(next.lattices.begin() + l);
+    auto shift = [l](int& lattice) {
+        if (lattice > l) --lattice;
+    };
+    std::erase_if(next.displacements, [l](const auto& d) { return d.lattice == l; });
+    std::erase_if(next.pointVariables, [l](const auto& p) { return p.lattice == l; });
+    std::erase_if(next.stations, [l](const auto& s) { return s.lattice == l; });
+    for (auto& d : next.displacements) shift(d.lattice);
+    for (auto& p : next.pointVariables) shift(p.lattice);
+    for (auto& s : next.stations) shift(s.lattice);
+    std::erase_if(next.values, [&](const auto& kv) { return kv.first.rfind(name + ".", 0) == 0; });
+    edit(tr("Remove lattice '%1'").arg(QString::fromStdString(name)), next);
+}
+
+void Document::moveLatticePoints(int l, const std::vector<int>& points, const std::array<double, 3>& delta) {
+    if (l < 0 || l >= static_cast<int>(committed_.size()) || points.empty()) return;
+    const ffd::Lattice& L = committed_[static_cast<std::size_t>(l)];
+    io::CaseFile next = case_;
+    for (int a : points) {
+        if (a < 0 || a >= L.controlCount()) continue;
+        const auto idx = unflatten(L, a);  // indices of the refined lattice, as case files store them
+        auto it = std::find_if(next.displacements.begin(), next.displacements.end(),
+                               [&](const io::DisplacementCase& d) { return d.lattice == l && d.index == idx; });
+        if (it == next.displacements.end()) {
+            next.displacements.push_back({l, idx, delta});
+        } else {
+            for (int k = 0; k < 3; ++k) it->delta[static_cast<std::size_t>(k)] += delta[static_cast<std::size_t>(k)];
+            if (it->delta == std::array<double, 3>{0, 0, 0}) next.displacements.erase(it);
+        }
+    }
+    edit(tr("Move %1").arg(counted(static_cast<long long>(points.size()), tr("lattice point"), tr("lattice points"))), next);
+}
+
+void Document::setLatticePointPosition(int l, int point, const std::array<double, 3>& position) {
+    if (l < 0 || l >= static_cast<int>(committed_.size())) return;
+    const ffd::Lattice& L = committed_[static_cast<std::size_t>(l)];
+    if (point < 0 || point >= L.controlCount()) return;
+    std::array<double, 3> delta{};
+    for (int k = 0; k < 3; ++k)
+        delta[static_cast<std::size_t>(k)] = position[static_cast<std::size_t>(k)] - L.points[3 * static_cast<std::size_t>(point) + k];
+    if (delta == std::array<double, 3>{0, 0, 0}) return;
+    moveLatticePoints(l, {point}, delta);
+}
+
+void Document::resetLatticePoints(int l, const std::vector<int>& points) {
+    if (l < 0 || l >= static_cast<int>(committed_.size())) return;
+    const ffd::Lattice& L = committed_[static_cast<std::size_t>(l)];
+    io::CaseFile next = case_;
+    const auto before = next.displacements.size();
+    for (int a : points) {
+        const auto idx = unflatten(L, a);
+        std::erase_if(next.displacements, [&](const io::DisplacementCase& d) { return d.lattice == l && d.index == idx; });
+    }
+    if (next.displacements.size() == before) return;
+    edit(tr("Reset %1").arg(counted(static_cast<long long>(before - next.displacements.size()), tr("lattice point"), tr("lattice points"))), next);
+}
+
+void Document::setDesignValue(int var, double value, int gesture) {
+    if (!model_ || var < 0 || var >= model_->design().size()) return;
+    const ffd::DesignVariable& d = model_->design().variables()[static_cast<std::size_t>(var)];
+    value = std::clamp(value, d.lower, d.upper);
+    if (value == values_[static_cast<std::size_t>(var)]) return;
+    io::CaseFile next = case_;
+    if (value == d.baseline)
+        next.values.erase(d.name);
+    else
+        next.values[d.name] = value;
+    const qint64 key = gesture != 0 ? (static_cast<qint64>(gesture) << 32) + var + 1 : 0;
+    io::CaseFile before = case_;
+    applyCase(next);
+    undo_->push(new SetDesignValueCommand(this, tr("Set %1 = %2").arg(QString::fromStdString(d.name)).arg(value, 0, 'g', 6),
+                                          std::move(before), case_, key));
+}
+
+void Document::resetDesignValues() {
+    if (case_.values.empty()) return;
+    io::CaseFile next = case_;
+    next.values.clear();
+    edit(tr("Reset design variables"), next);
+}
+
+// ---- Preview ----------------------------------------------------------------------------------
+
+void Document::previewLatticeMove(int l, const std::vector<int>& points, const std::array<double, 3>& delta) {
+    if (!model_ || l < 0 || l >= static_cast<int>(committed_.size())) return;
+    std::vector<ffd::Lattice> moved = committed_;
+    ffd::Lattice& L = moved[static_cast<std::size_t>(l)];
+    for (int a : points) {
+        if (a < 0 || a >= L.controlCount()) continue;
+        for (int k = 0; k < 3; ++k) L.points[3 * static_cast<std::size_t>(a) + k] += delta[static_cast<std::size_t>(k)];
+    }
+    previewing_ = true;
+    showLattices(std::move(moved));
+}
+
+void Document::endPreview() {
+    if (!previewing_) return;
+    previewing_ = false;
+    showLattices(committed_);
+}
+
+}  // namespace aero::ui
