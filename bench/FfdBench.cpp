@@ -38,6 +38,18 @@ const Setup& setup() {
     return s;
 }
 
+// The 100,000 points embedded once (for the deformation and sensitivity benchmarks).
+Embedding embedAll(const Setup& s) {
+    Embedding e;
+    e.points.resize(100000);
+    for (int i = 0; i < 100000; ++i) e.points[i] = i;
+    const nurbs::VolumeInverter inv(s.lattice);
+    std::vector<nurbs::VolumeInversion> r(100000);
+    inv.invertAll(s.points, r.data());
+    for (const auto& x : r) e.params.insert(e.params.end(), x.xi.begin(), x.xi.end());
+    return e;
+}
+
 void BM_Embed100k(benchmark::State& state) {
     const Setup& s = setup();
     std::vector<nurbs::VolumeInversion> out(s.points.size() / 3);
@@ -53,13 +65,7 @@ BENCHMARK(BM_Embed100k)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Deformation F~ of 100,000 embedded points, and the dA/dB sparse assembly (Eq. 3).
 void BM_Deform100k(benchmark::State& state) {
     const Setup& s = setup();
-    Embedding e;
-    e.points.resize(100000);
-    for (int i = 0; i < 100000; ++i) e.points[i] = i;
-    const nurbs::VolumeInverter inv(s.lattice);
-    std::vector<nurbs::VolumeInversion> r(100000);
-    inv.invertAll(s.points, r.data());
-    for (const auto& x : r) e.params.insert(e.params.end(), x.xi.begin(), x.xi.end());
+    const Embedding e = embedAll(s);
     std::vector<double> A(s.points.size());
     for (auto _ : state) {
         deformUnique(s.lattice, e, A);
@@ -71,13 +77,7 @@ BENCHMARK(BM_Deform100k)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Sensitivity100k(benchmark::State& state) {
     const Setup& s = setup();
-    Embedding e;
-    e.points.resize(100000);
-    for (int i = 0; i < 100000; ++i) e.points[i] = i;
-    const nurbs::VolumeInverter inv(s.lattice);
-    std::vector<nurbs::VolumeInversion> r(100000);
-    inv.invertAll(s.points, r.data());
-    for (const auto& x : r) e.params.insert(e.params.end(), x.xi.begin(), x.xi.end());
+    const Embedding e = embedAll(s);
     for (auto _ : state) {
         const auto W = sensitivity(s.lattice, e);
         benchmark::DoNotOptimize(W.nonZeros());

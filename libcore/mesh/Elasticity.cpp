@@ -36,6 +36,22 @@ void cellCorners(const MultiBlockMesh& m, const ControlBlock& b, int i, int j, i
     }
 }
 
+// Calls fn(x, nodes) for every control cell of block b in cell order (i fastest), with the
+// cell's corner coordinates x (8 x 3, VTK order) and global node numbers.
+template <class Fn>
+void forEachCell(const MultiBlockMesh& m, const ControlBlock& b, Fn&& fn) {
+    double x[24];
+    int nodes[8];
+    for (int k = 0; k + 1 < b.count[2]; ++k) {
+        for (int j = 0; j + 1 < b.count[1]; ++j) {
+            for (int i = 0; i + 1 < b.count[0]; ++i) {
+                cellCorners(m, b, i, j, k, x, nodes);
+                fn(x, nodes);
+            }
+        }
+    }
+}
+
 // Volume and minimum scaled corner Jacobian of a hexahedron.
 void cellMetrics(const double* x, double& volume, double& minScaled) {
     volume = 0;
@@ -110,23 +126,15 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
 }
 
 std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o, double meanVolume) {
-    const ControlBlock& b = m.blocks[block];
     std::vector<double> E;
-    double x[24];
-    int nodes[8];
-    for (int k = 0; k + 1 < b.count[2]; ++k) {
-        for (int j = 0; j + 1 < b.count[1]; ++j) {
-            for (int i = 0; i + 1 < b.count[0]; ++i) {
-                cellCorners(m, b, i, j, k, x, nodes);
-                double vol = 0, q = 0;
-                cellMetrics(x, vol, q);
-                double e = 1.0;
-                if (vol > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
-                e *= 1.0 + o.orthogonalityStiffening * (1.0 - std::clamp(q, 0.0, 1.0));
-                E.push_back(e);
-            }
-        }
-    }
+    forEachCell(m, m.blocks[block], [&](const double* x, const int*) {
+        double vol = 0, q = 0;
+        cellMetrics(x, vol, q);
+        double e = 1.0;
+        if (vol > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
+        e *= 1.0 + o.orthogonalityStiffening * (1.0 - std::clamp(q, 0.0, 1.0));
+        E.push_back(e);
+    });
     return E;
 }
 
@@ -170,19 +178,12 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
     double total = 0;
     long cells = 0;
     for (const ControlBlock& b : m.blocks) {
-        double x[24];
-        int nodes[8];
-        for (int k = 0; k + 1 < b.count[2]; ++k) {
-            for (int j = 0; j + 1 < b.count[1]; ++j) {
-                for (int i = 0; i + 1 < b.count[0]; ++i) {
-                    cellCorners(m, b, i, j, k, x, nodes);
-                    double vol = 0, q = 0;
-                    cellMetrics(x, vol, q);
-                    total += vol;
-                    ++cells;
-                }
-            }
-        }
+        forEachCell(m, b, [&](const double* x, const int*) {
+            double vol = 0, q = 0;
+            cellMetrics(x, vol, q);
+            total += vol;
+            ++cells;
+        });
     }
     const double meanVolume = total / std::max(1L, cells);
 
@@ -190,34 +191,27 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
     triplets.reserve(static_cast<std::size_t>(cells) * 300);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nfree);
     for (std::size_t bi = 0; bi < m.blocks.size(); ++bi) {
-        const ControlBlock& b = m.blocks[bi];
         const std::vector<double> E = cellStiffness(m, static_cast<int>(bi), o, meanVolume);
-        double x[24], K[24 * 24];
-        int nodes[8];
+        double K[24 * 24];
         std::size_t cell = 0;
-        for (int k = 0; k + 1 < b.count[2]; ++k) {
-            for (int j = 0; j + 1 < b.count[1]; ++j) {
-                for (int i = 0; i + 1 < b.count[0]; ++i, ++cell) {
-                    cellCorners(m, b, i, j, k, x, nodes);
-                    hexStiffness<double>(x, E[cell], o.poisson, K);
-                    for (int r = 0; r < 24; ++r) {
-                        const int gr = 3 * nodes[r / 3] + r % 3;
-                        const int fr = freeIndex[gr];
-                        if (fr < 0) continue;
-                        for (int c = 0; c < 24; ++c) {
-                            const int gc = 3 * nodes[c / 3] + c % 3;
-                            const int fc = freeIndex[gc];
-                            const double v = K[r * 24 + c];
-                            if (fc >= 0) {
-                                triplets.emplace_back(fr, fc, v);
-                            } else {
-                                rhs[fr] -= v * prescribed[gc];
-                            }
-                        }
+        forEachCell(m, m.blocks[bi], [&](const double* x, const int* nodes) {
+            hexStiffness<double>(x, E[cell++], o.poisson, K);
+            for (int r = 0; r < 24; ++r) {
+                const int gr = 3 * nodes[r / 3] + r % 3;
+                const int fr = freeIndex[gr];
+                if (fr < 0) continue;
+                for (int c = 0; c < 24; ++c) {
+                    const int gc = 3 * nodes[c / 3] + c % 3;
+                    const int fc = freeIndex[gc];
+                    const double v = K[r * 24 + c];
+                    if (fc >= 0) {
+                        triplets.emplace_back(fr, fc, v);
+                    } else {
+                        rhs[fr] -= v * prescribed[gc];
                     }
                 }
             }
-        }
+        });
     }
     Eigen::SparseMatrix<double> A(nfree, nfree);
     A.setFromTriplets(triplets.begin(), triplets.end());

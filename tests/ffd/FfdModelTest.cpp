@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "RandomNurbs.h"
 #include "ffd/Injectivity.h"
 #include "geometry/EnclosedVolume.h"
 #include "geometry/HalfSphere.h"
@@ -45,14 +46,7 @@ std::vector<nurbs::Surface<cplx>> complexPatches(const FfdModel& m, const std::v
     const auto& idx = m.index();
     for (int p = 0; p < m.baseline().size(); ++p) {
         const auto& s = m.baseline().patches[p];
-        nurbs::Surface<cplx> c;
-        c.degreeU = s.degreeU;
-        c.degreeV = s.degreeV;
-        c.countU = s.countU;
-        c.countV = s.countV;
-        c.knotsU = s.knotsU;
-        c.knotsV = s.knotsV;
-        c.points.resize(s.points.size());
+        nurbs::Surface<cplx> c = test::cast<cplx>(s);
         for (int a = idx.patchOffset[p]; a < idx.patchOffset[p + 1]; ++a) {
             for (int k = 0; k < 3; ++k) c.points[3 * (a - idx.patchOffset[p]) + k] = A[3 * idx.toUnique[a] + k];
         }

@@ -5,6 +5,7 @@
 #include <complex>
 #include <numbers>
 
+#include "RandomNurbs.h"
 #include "geometry/HalfSphere.h"
 
 using namespace aero;
@@ -69,18 +70,7 @@ TEST(EnclosedVolume, GradientAgreesWithComplexStep) {
     set.patches[3].weights[14] = 1.3;
     const std::vector<double> g = enclosedVolumeGradient(set);
     std::vector<nurbs::Surface<cplx>> cs;
-    for (const auto& p : set.patches) {
-        nurbs::Surface<cplx> c;
-        c.degreeU = p.degreeU;
-        c.degreeV = p.degreeV;
-        c.countU = p.countU;
-        c.countV = p.countV;
-        c.knotsU = p.knotsU;
-        c.knotsV = p.knotsV;
-        c.points.assign(p.points.begin(), p.points.end());
-        c.weights.assign(p.weights.begin(), p.weights.end());
-        cs.push_back(c);
-    }
+    for (const auto& p : set.patches) cs.push_back(test::cast<cplx>(p));
     std::size_t offset = 0;
     for (int p = 0; p < set.size(); p += 3) {
         offset = 0;
