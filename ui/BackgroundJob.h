@@ -10,7 +10,7 @@
 // `done` callback runs there too: that is where results are handed to the document and the
 // scenes. The function itself must not touch widgets, VTK objects or the Document.
 //
-// The mesh preview (Mesh > Preview, pending the mesh layer) is the first intended user.
+// The mesh preview (Mesh > Preview, ui/MeshPreviewer) is its first user.
 #include <QObject>
 #include <QString>
 #include <atomic>
@@ -26,6 +26,8 @@ class CancelToken {
   public:
     void cancel() { flag_.store(true, std::memory_order_relaxed); }
     bool cancelled() const { return flag_.load(std::memory_order_relaxed); }
+    /// The flag itself, for libcore routines that poll a `const std::atomic<bool>*`.
+    const std::atomic<bool>* flag() const { return &flag_; }
 
   private:
     std::atomic<bool> flag_{false};
@@ -36,6 +38,8 @@ class JobContext {
     JobContext(std::shared_ptr<const CancelToken> token, std::function<void(double, const QString&)> progress)
         : token_(std::move(token)), progress_(std::move(progress)) {}
     bool cancelled() const { return token_->cancelled(); }
+    /// The token's flag (valid while the work runs), e.g. for mesh::moveControlGrid.
+    const std::atomic<bool>* cancelFlag() const { return token_->flag(); }
     /// fraction in [0, 1] (negative: unknown), text for the status bar. Thread-safe.
     void progress(double fraction, const QString& text = {}) const { progress_(fraction, text); }
 

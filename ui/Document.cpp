@@ -15,6 +15,7 @@
 #include "common/Error.h"
 #include "Text.h"
 #include "geometry/HalfSphere.h"
+#include "geometry/Topology.h"
 #include "io/CaseWriter.h"
 #include "io/GeometryVtk.h"
 #include "io/PatchSetJson.h"
@@ -82,6 +83,14 @@ std::string modelKey(const io::CaseFile& c) {
     k.stations = c.stations;
     k.pointVariables = c.pointVariables;
     k.embedding = c.embedding;
+    return io::formatCase(k);
+}
+
+// Canonical text of the case's mesh options (to notice that they changed).
+std::string meshKey(const io::CaseFile& c) {
+    io::CaseFile k;
+    k.mesh = c.mesh;
+    k.mesh.present = true;
     return io::formatCase(k);
 }
 
@@ -269,6 +278,12 @@ geometry::PatchSet Document::shapeDerivative(int var) const {
     return d;
 }
 
+std::vector<double> Document::uniquePoints() const {
+    if (!baseline_) return {};
+    if (model_) return model_->uniqueWith(moved_);
+    return geometry::buildControlPointIndex(*baseline_, 1e-10).points;
+}
+
 std::array<double, 3> Document::displacement(int l, int point) const {
     if (l < 0 || l >= static_cast<int>(committed_.size())) return {0, 0, 0};
     const auto idx = unflatten(committed_[static_cast<std::size_t>(l)], point);
@@ -421,6 +436,7 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     Built b = build(next, *baseline_, model_.get(), modelKey_);
     const bool structure = b.model != nullptr || (!b.hasModel && model_ != nullptr);
     const bool valuesDiffer = b.values != values_;
+    const bool meshDiffers = meshKey(next) != meshKey(case_);
     case_ = std::move(next);
     if (b.model) {
         model_ = std::move(b.model);
@@ -437,6 +453,7 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     ++revision_;
     if (structure) emit structureChanged();
     if (valuesDiffer || structure) emit valuesChanged();
+    if (meshDiffers) emit meshOptionsChanged();
     showLattices(std::move(b.moved));
 }
 
@@ -621,6 +638,19 @@ void Document::resetDesignValues() {
     io::CaseFile next = case_;
     next.values.clear();
     edit(tr("Reset design variables"), next);
+}
+
+void Document::setMeshOptions(const std::string& level, int increments) {
+    if (increments < 1) throw CaseError("mesh.increments: must be at least 1");
+    io::CaseFile next = case_;
+    if (level != next.mesh.level) {
+        next.mesh.extrusion = mesh::extrusionLevel(level);  // throws CaseError naming the level
+        next.mesh.level = level;
+    }
+    next.mesh.elasticity.increments = increments;
+    next.mesh.present = true;
+    if (meshKey(next) == meshKey(case_)) return;  // e.g. the level chosen again
+    edit(tr("Set mesh level %1, %2").arg(QString::fromStdString(level), counted(increments, tr("increment"), tr("increments"))), next);
 }
 
 // ---- Preview ----------------------------------------------------------------------------------

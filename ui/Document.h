@@ -80,6 +80,10 @@ class Document : public QObject {
     /// sampling it gives dS/dv of the surfaces (S is linear in its control points). Empty set
     /// without a model or for a bad index.
     geometry::PatchSet shapeDerivative(int var) const;
+    /// The unique control points of the geometry as shown (deformed, a drag preview included),
+    /// 3 per point in geometry::buildControlPointIndex order of the baseline: the wall the mesh
+    /// control grid must reach (FfdModel::uniqueWith). Empty without geometry.
+    std::vector<double> uniquePoints() const;
 
     // ---- Load, save, export (no undo; a load clears the undo stack) --------------------------
     /// A new project around a geometry file (.igs, .iges, .json patch set).
@@ -124,6 +128,10 @@ class Document : public QObject {
     /// non-zero `gesture` and variable merge into one undo step (a slider drag).
     void setDesignValue(int var, double value, int gesture = 0);
     void resetDesignValues();
+    /// Sets the case's mesh level ("coarse", "medium", "paper"; a new level resets the grid
+    /// options to its defaults) and elasticity increments (>= 1). Throws CaseError for an
+    /// unknown level. No-op when nothing changes.
+    void setMeshOptions(const std::string& level, int increments);
 
     /// Displacement of a lattice point in the case (zero if none).
     std::array<double, 3> displacement(int l, int point) const;
@@ -150,6 +158,8 @@ class Document : public QObject {
     void latticesMoved();
     /// Design values changed (values()).
     void valuesChanged();
+    /// The case's mesh options (caseFile().mesh) changed.
+    void meshOptionsChanged();
     /// injectivity() or failed points changed; problems() says what is wrong.
     void diagnosticsChanged();
     void modifiedChanged(bool modified);

@@ -42,6 +42,9 @@
 #include "LatticeDialog.h"
 #include "LatticeEditor.h"
 #include "LatticeScene.h"
+#include "MeshPanel.h"
+#include "MeshPreviewer.h"
+#include "MeshScene.h"
 #include "ModelTree.h"
 #include "OverlayScene.h"
 #include "PatchScene.h"
@@ -81,10 +84,14 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     scene_ = std::make_unique<PatchScene>(viewport_->renderer());
     lattices_ = std::make_unique<LatticeScene>(viewport_->renderer());
     overlay_ = std::make_unique<OverlayScene>(viewport_->renderer());
+    meshScene_ = std::make_unique<MeshScene>(viewport_->renderer());
     editor_ = new LatticeEditor(viewport_, document_, selection_, lattices_.get(), this);
 
     createDocks();
     createStatusBar();
+    // After the status bar: the previewer's messages about a finished job come after the
+    // generic "done" of the job (same signal, later connection).
+    previewer_ = new MeshPreviewer(document_, jobs_, viewport_, meshScene_.get(), meshPanel_, this);
     createMenus();
     connectDocument();
     if (options_.autosave) {
@@ -105,6 +112,7 @@ MainWindow::~MainWindow() {
     // Removing the scenes' actors releases their GL objects: do it in the viewport's context
     // (which is still alive; the viewport, a child widget, is destroyed after this body).
     viewport_->makeCurrent();
+    meshScene_.reset();
     overlay_.reset();
     lattices_.reset();
     scene_.reset();
@@ -139,10 +147,24 @@ void MainWindow::createDocks() {
     varDock->setWidget(variables_);
     addDockWidget(Qt::RightDockWidgetArea, varDock);
 
+    meshPanel_ = new MeshPanel(this);
+    auto* meshScroll = new QScrollArea(this);
+    meshScroll->setWidget(meshPanel_);
+    meshScroll->setWidgetResizable(true);
+    meshScroll->setFrameShape(QFrame::NoFrame);
+    meshScroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    auto* meshDock = new QDockWidget(tr("Mesh Quality"), this);
+    meshDock->setObjectName(QStringLiteral("meshQualityDock"));
+    meshDock->setWidget(meshScroll);
+    addDockWidget(Qt::RightDockWidgetArea, meshDock);
+    tabifyDockWidget(varDock, meshDock);
+    varDock->raise();
+
     resizeDocks({treeDock, varDock}, {260, 300}, Qt::Horizontal);
     resizeDocks({treeDock, propDock}, {200, 420}, Qt::Vertical);
 
     connect(tree_, &ModelTree::geometryVisibilityChanged, this, [this](bool on) {
+        if (!settingGeometry_) geometryHiddenForGrid_ = false;  // the user's choice from now on
         scene_->setSurfacesVisible(on);
         scene_->setEdgesVisible(on && findChild<QAction*>(QStringLiteral("actionPatchEdges"))->isChecked());
         findChild<QAction*>(QStringLiteral("actionSurfaces"))->setChecked(on);
@@ -158,6 +180,7 @@ void MainWindow::createDocks() {
         lattices_->setLatticeVisible(l, on);
         viewport_->requestRender();
     });
+    connect(tree_, &ModelTree::gridVisibilityChanged, this, &MainWindow::applyGridVisibility);
 }
 
 void MainWindow::createStatusBar() {
@@ -250,9 +273,9 @@ void MainWindow::createMenus() {
                                    "actionExportGeometry"));
     needsGeometry_.push_back(named(exportMenu->addAction(tr("Geometry for &ParaView (VTK)..."), this, &MainWindow::exportVtk),
                                    "actionExportVtk"));
-    QAction* exportGrid = named(exportMenu->addAction(tr("G&rid (VTK, Plot3D)...")), "actionExportGrid");
-    exportGrid->setEnabled(false);
-    exportGrid->setToolTip(tr("needs the mesh layer"));
+    exportGridAction_ = named(exportMenu->addAction(tr("G&rid (VTK, Plot3D)..."), this, &MainWindow::exportGrid),
+                              "actionExportGrid");
+    exportGridAction_->setToolTip(tr("The previewed grid: VTK multiblock with the quality fields, or Plot3D"));
     QAction* shot = named(exportMenu->addAction(tr("Screens&hot (PNG)..."), this, &MainWindow::chooseAndSaveScreenshot),
                           "actionSaveScreenshot");
     shot->setShortcut(QKeySequence(tr("Ctrl+Alt+S")));
@@ -368,14 +391,22 @@ void MainWindow::createMenus() {
                                                     [this] { document_->removeLattice(selection_->lattice()); }),
                                  "actionRemoveLattice");
 
-    // Mesh: the place for the mesh layer (a worker-thread job through jobs_).
+    // Mesh: the preview runs as a worker-thread job (jobs_); MeshPreviewer drives it.
     QMenu* mesh = menuBar()->addMenu(tr("&Mesh"));
     mesh->setToolTipsVisible(true);
-    QAction* preview = named(mesh->addAction(tr("&Preview")), "actionMeshPreview");
-    preview->setEnabled(false);
-    preview->setToolTip(tr("needs the mesh layer"));
-    preview->setStatusTip(tr("Mesh preview: needs the mesh layer"));
-    mesh->addAction(exportGrid);
+    meshPreviewAction_ = named(mesh->addAction(tr("&Preview"), this, &MainWindow::startMeshPreview), "actionMeshPreview");
+    meshPreviewAction_->setShortcut(QKeySequence(tr("Ctrl+M")));
+    meshPreviewAction_->setIconText(tr("Mesh Preview"));
+    meshPreviewAction_->setToolTip(tr("Generate the volume grid at the case's level, move it to the deformed geometry "
+                                      "and check its cells"));
+    meshCancelAction_ = named(mesh->addAction(tr("&Cancel Preview"), previewer_, &MeshPreviewer::cancel),
+                              "actionMeshCancel");
+    meshClearAction_ = named(mesh->addAction(tr("C&lear Preview"), previewer_, &MeshPreviewer::clear), "actionMeshClear");
+    mesh->addSeparator();
+    QAction* qualityPanel = findChild<QDockWidget*>(QStringLiteral("meshQualityDock"))->toggleViewAction();
+    qualityPanel->setText(tr("Mesh &Quality Panel"));
+    mesh->addAction(qualityPanel);
+    mesh->addAction(exportGridAction_);
 
     // Help.
     QMenu* help = menuBar()->addMenu(tr("&Help"));
@@ -388,7 +419,10 @@ void MainWindow::createMenus() {
                "view plane, Shift+drag to move along X, Y or Z, Esc cancels a drag; Delete resets the "
                "selected points. Exact coordinates go in the Properties panel.</p>"
                "<p><b>Design variables</b>: sliders and spin boxes in the Design Variables panel; a slider "
-               "drag is one undo step.</p>"));
+               "drag is one undo step.</p>"
+               "<p><b>Mesh preview</b>: Ctrl+M generates the grid (level and increments in the Mesh Quality "
+               "panel); the model tree's Grid blocks toggle the control grid, wall, symmetry plane and slice; "
+               "click a worst cell to fly the camera to it.</p>"));
     });
     help->addAction(tr("&About Aeroform"), this, [this] {
         QMessageBox::about(this, tr("About Aeroform"),
@@ -428,6 +462,7 @@ void MainWindow::createMenus() {
     bar->addAction(add);
     bar->addAction(latticesAction_);
     bar->addAction(sensitivityAction_);
+    bar->addAction(meshPreviewAction_);
     bar->addSeparator();
     bar->addAction(reset);
 }
@@ -454,6 +489,44 @@ void MainWindow::connectDocument() {
     connect(document_, &Document::modifiedChanged, this, &MainWindow::updateTitle);
     connect(document_, &Document::titleChanged, this, &MainWindow::updateTitle);
     connect(document_, &Document::valuesChanged, this, &MainWindow::updateActions);
+
+    // Mesh preview.
+    auto showMeshOptions = [this] {
+        const io::MeshCase& m = document_->caseFile().mesh;
+        meshPanel_->setOptions(QString::fromStdString(m.level), m.elasticity.increments);
+    };
+    connect(document_, &Document::reset, this, showMeshOptions);
+    connect(document_, &Document::meshOptionsChanged, this, showMeshOptions);
+    showMeshOptions();
+    connect(meshPanel_, &MeshPanel::previewRequested, this, &MainWindow::startMeshPreview);
+    connect(meshPanel_, &MeshPanel::cancelRequested, previewer_, &MeshPreviewer::cancel);
+    connect(meshPanel_, &MeshPanel::optionsEdited, this, [this, showMeshOptions](const QString& level, int increments) {
+        QString error;
+        if (!guarded([&] { document_->setMeshOptions(level.toStdString(), increments); }, &error)) {
+            showMeshOptions();
+            QMessageBox::critical(this, tr("Cannot change the mesh options"), error);
+        }
+    });
+    connect(meshPanel_, &MeshPanel::metricChanged, this, [this](QualityMetric m) {
+        meshScene_->setMetric(m);
+        viewport_->requestRender();
+    });
+    connect(meshPanel_, &MeshPanel::sliceChanged, this, [this](int k) {
+        meshScene_->setSlice(k);
+        // Moving the slider means "show me the slice".
+        tree_->gridPartItem(ModelTree::SlicePart)->setCheckState(0, Qt::Checked);
+        if (tree_->gridItem()->checkState(0) != Qt::Checked) tree_->gridItem()->setCheckState(0, Qt::Checked);
+        viewport_->requestRender();
+    });
+    connect(meshPanel_, &MeshPanel::worstCellActivated, this, [this](int index) { previewer_->flyToWorstCell(index); });
+    connect(previewer_, &MeshPreviewer::stateChanged, this, &MainWindow::onMeshPreviewStateChanged);
+    connect(previewer_, &MeshPreviewer::message, this, [this](const QString& text, int timeoutMs) {
+        statusBar()->showMessage(text, timeoutMs);
+    });
+    connect(jobs_, &BackgroundJob::started, this, &MainWindow::updateActions);
+    connect(jobs_, &BackgroundJob::finished, this, &MainWindow::updateActions);
+    meshScene_->setMetric(meshPanel_->metric());
+    applyGridVisibility();
     connect(selection_, &Selection::changed, this, [this] {
         const bool points = selection_->kind() == Selection::Kind::LatticePoints;
         lattices_->setSelection(points ? selection_->lattice() : -1, selection_->points());
@@ -522,7 +595,8 @@ void MainWindow::updateLatticeScene() {
 
 void MainWindow::updateDiagnostics() {
     overlay_->setFailedPoints(document_->failedPoints());
-    const QStringList problems = document_->problems();
+    QStringList problems = document_->problems();
+    if (previewer_ && !previewer_->problem().isEmpty()) problems << previewer_->problem();
     if (problems.isEmpty()) {
         problemLabel_->clear();
         problemLabel_->setToolTip(QString());
@@ -601,6 +675,14 @@ void MainWindow::updateActions() {
     removeLatticeAction_->setEnabled(selection_->kind() == Selection::Kind::Lattice ||
                                      selection_->kind() == Selection::Kind::LatticePoints);
     resetPointsAction_->setEnabled(selection_->kind() == Selection::Kind::LatticePoints);
+    const MeshPreviewer::State mesh = previewer_->state();
+    meshPreviewAction_->setEnabled(geometry && !jobs_->running());
+    meshCancelAction_->setEnabled(mesh == MeshPreviewer::State::Running);
+    meshClearAction_->setEnabled(previewer_->result() != nullptr);
+    exportGridAction_->setEnabled(mesh == MeshPreviewer::State::Ready);
+    exportGridAction_->setStatusTip(mesh == MeshPreviewer::State::Ready ? QString()
+                                                                        : tr("Run Mesh > Preview first (Ctrl+M)"));
+    meshPanel_->previewButton()->setEnabled(geometry && (!jobs_->running() || mesh == MeshPreviewer::State::Running));
 }
 
 // ---- Camera ---------------------------------------------------------------------------------------
@@ -864,6 +946,93 @@ void MainWindow::exportVtk() {
         statusBar()->showMessage(tr("Exported %1").arg(path), 5000);
     else
         QMessageBox::critical(this, tr("Cannot export"), error);
+}
+
+void MainWindow::exportGrid() {
+    QString filter;
+    QString path = QFileDialog::getSaveFileName(
+        this, tr("Export Grid"), lastDirectory_,
+        tr("VTK multiblock with quality fields (*.vtm);;Plot3D binary (*.xyz);;Plot3D ASCII (*.p3d)"), &filter);
+    if (path.isEmpty()) return;
+    if (QFileInfo(path).suffix().isEmpty())
+        path += filter.contains(QLatin1String("*.xyz")) ? QStringLiteral(".xyz")
+                : filter.contains(QLatin1String("*.p3d")) ? QStringLiteral(".p3d")
+                                                           : QStringLiteral(".vtm");
+    QString error;
+    QApplication::setOverrideCursor(Qt::WaitCursor);
+    const bool ok = guarded([&] { previewer_->exportGrid(path); }, &error);
+    QApplication::restoreOverrideCursor();
+    if (ok)
+        statusBar()->showMessage(tr("Exported %1").arg(path), 5000);
+    else
+        QMessageBox::critical(this, tr("Cannot export the grid"), error);
+}
+
+// ---- Mesh preview -------------------------------------------------------------------------------
+
+void MainWindow::startMeshPreview() {
+    if (!document_->problems().isEmpty()) {
+        const auto answer = QMessageBox::warning(this, tr("Mesh Preview"),
+                                                 tr("The current state has problems:\n\n%1\n\nPreview the mesh anyway?").arg(problemText()),
+                                                 QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel);
+        if (answer != QMessageBox::Yes) return;
+    }
+    QString error;
+    if (!previewer_->start(&error)) {
+        statusBar()->showMessage(error, 8000);
+        return;
+    }
+    if (auto* dock = findChild<QDockWidget*>(QStringLiteral("meshQualityDock"))) {
+        dock->show();
+        dock->raise();
+    }
+}
+
+void MainWindow::onMeshPreviewStateChanged() {
+    using State = MeshPreviewer::State;
+    const State state = previewer_->state();
+    switch (state) {
+        case State::Ready:
+            tree_->setGridState(counted(static_cast<long long>(previewer_->result()->grids.size()), tr("block"), tr("blocks")), true,
+                                tr("The mesh preview's grid: %1").arg(previewer_->description()));
+            break;
+        case State::Outdated:
+            tree_->setGridState(tr("outdated"), false,
+                                tr("The geometry or the mesh options changed after the preview: run Mesh > Preview again"));
+            break;
+        case State::Running:
+            tree_->setGridState(tr("generating..."), false);
+            break;
+        default:
+            tree_->setGridState({}, false);
+            break;
+    }
+    applyGridVisibility();
+    updateActions();
+    updateDiagnostics();
+}
+
+void MainWindow::applyGridVisibility() {
+    for (int p = 0; p < ModelTree::GridPartCount; ++p) meshScene_->setPartVisible(static_cast<MeshPart>(p), tree_->gridPartShown(p));
+    // The grid's wall lies on the geometry's surfaces: hide those while it is shown.
+    const bool wall = previewer_ && previewer_->state() == MeshPreviewer::State::Ready && tree_->gridPartShown(ModelTree::WallPart);
+    const bool geometryShown = tree_->geometryItem()->checkState(0) == Qt::Checked;
+    settingGeometry_ = true;
+    if (wall && geometryShown) {
+        tree_->geometryItem()->setCheckState(0, Qt::Unchecked);
+        geometryHiddenForGrid_ = true;
+    } else if (!wall && geometryHiddenForGrid_) {
+        geometryHiddenForGrid_ = false;
+        if (!geometryShown) {
+            tree_->geometryItem()->setCheckState(0, Qt::Checked);
+        } else {  // checked again without a signal (a new document): show the surfaces ourselves
+            scene_->setSurfacesVisible(true);
+            scene_->setEdgesVisible(findChild<QAction*>(QStringLiteral("actionPatchEdges"))->isChecked());
+            findChild<QAction*>(QStringLiteral("actionSurfaces"))->setChecked(true);
+        }
+    }
+    settingGeometry_ = false;
+    viewport_->requestRender();
 }
 
 // ---- FFD ----------------------------------------------------------------------------------------

@@ -1,8 +1,9 @@
 #pragma once
 // The desktop application's main window: the VTK viewport in the centre, the model tree and
-// the property panel on the left, the design variables on the right; File (open, recent,
-// save, export), Edit (undo/redo), View, FFD and Mesh menus; a status bar that explains
-// problems (non-injective lattices, points outside lattices) and shows background jobs.
+// the property panel on the left, the design variables and the mesh quality on the right; File
+// (open, recent, save, export), Edit (undo/redo), View, FFD and Mesh menus; a status bar that
+// explains problems (non-injective lattices, points outside lattices, tangled grid cells) and
+// shows background jobs (the mesh preview) with a progress bar and Cancel.
 //
 // This is the boundary where libcore's exceptions (aero::Error) become messages for the
 // user. The state lives in Document; the window wires it to the scenes and panels and
@@ -29,6 +30,9 @@ class DesignVariablePanel;
 class Document;
 class LatticeEditor;
 class LatticeScene;
+class MeshPanel;
+class MeshPreviewer;
+class MeshScene;
 class ModelTree;
 class OverlayScene;
 class PatchScene;
@@ -87,6 +91,9 @@ class MainWindow : public QMainWindow {
     ModelTree& modelTree() const { return *tree_; }
     Autosaver* autosaver() const { return autosaver_; }
     BackgroundJob& jobs() const { return *jobs_; }
+    MeshScene& meshScene() const { return *meshScene_; }
+    MeshPanel& meshPanel() const { return *meshPanel_; }
+    MeshPreviewer& meshPreviewer() const { return *previewer_; }
     /// "20 patches, 720 control points", or "No geometry".
     QString summary() const;
     /// The problem text shown in the status bar (empty when all is well).
@@ -118,7 +125,14 @@ class MainWindow : public QMainWindow {
     void chooseAndSaveScreenshot();
     void exportGeometry();
     void exportVtk();
+    void exportGrid();
     void addLattice();
+    /// Mesh > Preview: starts the job (messages instead of dialogs when it cannot).
+    void startMeshPreview();
+    void onMeshPreviewStateChanged();
+    /// Grid parts as the model tree's boxes say; the geometry's surfaces make way for the
+    /// grid's wall while it is shown (and come back after).
+    void applyGridVisibility();
     void addRecentFile(const QString& path);
     void fillRecentMenu();
     /// Runs `work` (which may throw aero::Error) and reports failures in *error.
@@ -131,6 +145,11 @@ class MainWindow : public QMainWindow {
     std::unique_ptr<PatchScene> scene_;
     std::unique_ptr<LatticeScene> lattices_;
     std::unique_ptr<OverlayScene> overlay_;
+    std::unique_ptr<MeshScene> meshScene_;
+    MeshPanel* meshPanel_ = nullptr;
+    MeshPreviewer* previewer_ = nullptr;
+    bool geometryHiddenForGrid_ = false;  // we unchecked Geometry to show the grid's wall
+    bool settingGeometry_ = false;
     LatticeEditor* editor_ = nullptr;
     ModelTree* tree_ = nullptr;
     PropertyPanel* properties_ = nullptr;
@@ -147,6 +166,10 @@ class MainWindow : public QMainWindow {
     QAction* sensitivityAction_ = nullptr;
     QAction* removeLatticeAction_ = nullptr;
     QAction* resetPointsAction_ = nullptr;
+    QAction* meshPreviewAction_ = nullptr;
+    QAction* meshCancelAction_ = nullptr;
+    QAction* meshClearAction_ = nullptr;
+    QAction* exportGridAction_ = nullptr;
     std::vector<QAction*> needsGeometry_;
     QString lastDirectory_;
 };

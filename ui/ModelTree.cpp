@@ -44,13 +44,21 @@ ModelTree::ModelTree(Document* document, Selection* selection, QWidget* parent)
     updating_ = true;
     geometry_ = makeItem(nullptr, tr("Geometry"), GeometryItem, -1, true);
     lattices_ = makeItem(nullptr, tr("FFD volumes"), LatticesItem, -1, true);
-    grid_ = makeItem(nullptr, tr("Grid blocks"), GridItem, -1, false);
+    grid_ = makeItem(nullptr, tr("Grid blocks"), GridItem, -1, true);
     addTopLevelItems({geometry_, lattices_, grid_});
-    auto* pending = makeItem(grid_, tr("(needs the mesh layer)"), GridBlockItem, -1, false);
-    pending->setFlags(Qt::NoItemFlags);
-    pending->setToolTip(0, tr("Grid blocks appear here once the mesh layer is available."));
-    grid_->setToolTip(0, tr("Structured grid blocks around the geometry (needs the mesh layer)."));
+    const QString parts[GridPartCount] = {tr("Control grid"), tr("Wall"), tr("Symmetry plane"), tr("Slice (k = const)")};
+    const QString tips[GridPartCount] = {
+        tr("The control grid b of the B-spline volume blocks (wireframe)"),
+        tr("The grid's faces on the body, coloured by the cell quality"),
+        tr("The grid's faces on the symmetry plane Y = 0, coloured by the cell quality"),
+        tr("One layer of cells k = const around the body (choose it in the Mesh Quality panel)")};
+    for (int p = 0; p < GridPartCount; ++p) {
+        auto* item = makeItem(grid_, parts[p], GridPartItem, p, true);
+        item->setToolTip(0, tips[p]);
+        if (p == ControlGridPart || p == SlicePart) item->setCheckState(0, Qt::Unchecked);
+    }
     updating_ = false;
+    setGridState({}, false);
 
     connect(this, &QTreeWidget::itemChanged, this, &ModelTree::onItemChanged);
     connect(this, &QTreeWidget::itemSelectionChanged, this, &ModelTree::onSelectionChanged);
@@ -67,6 +75,29 @@ QTreeWidgetItem* ModelTree::latticeItem(int lattice) const {
 
 QTreeWidgetItem* ModelTree::patchItem(int patch) const {
     return patch >= 0 && patch < geometry_->childCount() ? geometry_->child(patch) : nullptr;
+}
+
+QTreeWidgetItem* ModelTree::gridPartItem(int part) const {
+    return part >= 0 && part < grid_->childCount() ? grid_->child(part) : nullptr;
+}
+
+bool ModelTree::gridPartShown(int part) const {
+    const QTreeWidgetItem* item = gridPartItem(part);
+    return item && item->checkState(0) == Qt::Checked && grid_->checkState(0) == Qt::Checked;
+}
+
+void ModelTree::setGridState(const QString& description, bool available, const QString& tooltip) {
+    updating_ = true;
+    grid_->setText(0, description.isEmpty() ? tr("Grid blocks") : tr("Grid blocks \u2014 %1").arg(description));
+    grid_->setToolTip(0, !tooltip.isEmpty() ? tooltip
+                         : available        ? tr("The mesh preview's structured grid blocks")
+                                            : tr("Run Mesh > Preview (Ctrl+M) to generate the grid blocks"));
+    for (int p = 0; p < grid_->childCount(); ++p) {
+        QTreeWidgetItem* item = grid_->child(p);
+        item->setDisabled(!available);
+    }
+    grid_->setExpanded(available);
+    updating_ = false;
 }
 
 void ModelTree::rebuild() {
@@ -152,6 +183,10 @@ void ModelTree::onItemChanged(QTreeWidgetItem* item, int column) {
             break;
         case LatticeItem:
             emit latticeVisibilityChanged(indexOf(item), on);
+            break;
+        case GridItem:
+        case GridPartItem:
+            emit gridVisibilityChanged();
             break;
         default:
             break;

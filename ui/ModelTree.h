@@ -1,6 +1,7 @@
 #pragma once
-// The model tree: Geometry (its patches), FFD volumes (the lattices) and Grid blocks (a place
-// for the mesh layer), each with a visibility check box. Selecting items selects patches or a
+// The model tree: Geometry (its patches), FFD volumes (the lattices) and Grid blocks (the
+// parts of the mesh preview: control grid, wall, symmetry plane, slice), each with a visibility
+// check box. Selecting items selects patches or a
 // lattice (Selection); lattices with problems carry a warning icon and say why in a tooltip.
 // GUI thread only; no VTK.
 #include <QTreeWidget>
@@ -14,7 +15,9 @@ class ModelTree : public QTreeWidget {
     Q_OBJECT
 
   public:
-    enum ItemKind { GeometryItem = 1, PatchItem, LatticesItem, LatticeItem, GridItem, GridBlockItem };
+    enum ItemKind { GeometryItem = 1, PatchItem, LatticesItem, LatticeItem, GridItem, GridPartItem };
+    /// The grid's parts, in the order of their items (and of MeshPart).
+    enum GridPart { ControlGridPart = 0, WallPart, SymmetryPart, SlicePart, GridPartCount };
     static constexpr int KindRole = Qt::UserRole + 1;
     static constexpr int IndexRole = Qt::UserRole + 2;
 
@@ -25,12 +28,20 @@ class ModelTree : public QTreeWidget {
     QTreeWidgetItem* gridItem() const { return grid_; }
     QTreeWidgetItem* latticeItem(int lattice) const;
     QTreeWidgetItem* patchItem(int patch) const;
+    QTreeWidgetItem* gridPartItem(int part) const;
+    /// Whether grid part `part` is to be shown (its box and the Grid blocks box are checked).
+    bool gridPartShown(int part) const;
+    /// Describes the mesh preview on the Grid blocks item (`description`, e.g. "20 blocks", and
+    /// a tooltip); the parts can be toggled while `available`.
+    void setGridState(const QString& description, bool available, const QString& tooltip = {});
 
   signals:
     void geometryVisibilityChanged(bool visible);
     void patchVisibilityChanged(int patch, bool visible);
     void latticesVisibilityChanged(bool visible);
     void latticeVisibilityChanged(int lattice, bool visible);
+    /// The Grid blocks box or one of its parts' boxes changed (see gridPartShown).
+    void gridVisibilityChanged();
 
   private:
     void rebuild();

@@ -58,6 +58,7 @@ class DocumentTest : public QObject {
     void outsidePointsAreReported();
     void latticeEditsRebuildTheModelAndUndo();
     void saveAndReopenRestoresExactly();
+    void meshOptionsAreUndoableAndSaved();
     void autosaveAndRecoveryRestoreExactly();
     void failedLoadKeepsTheDocument();
     void exportsTheDeformedGeometryExactly();
@@ -287,6 +288,42 @@ void DocumentTest::latticeEditsRebuildTheModelAndUndo() {
     QVERIFY(samePoints(d.shape(), d.baseline()));
     d.undoStack()->undo();
     QCOMPARE(d.latticeCount(), 1);
+}
+
+void DocumentTest::meshOptionsAreUndoableAndSaved() {
+    Document d;
+    d.newFromSample(true);
+    QVERIFY(!d.caseFile().mesh.present);
+    QCOMPARE(d.caseFile().mesh.level, std::string("coarse"));
+    QSignalSpy changed(&d, &Document::meshOptionsChanged);
+    d.setMeshOptions("coarse", 6);  // the defaults again: no edit
+    QCOMPARE(d.undoStack()->count(), 0);
+    QCOMPARE(changed.count(), 0);
+    d.setMeshOptions("medium", 4);
+    QCOMPARE(changed.count(), 1);
+    QCOMPARE(d.undoStack()->count(), 1);
+    QVERIFY(d.isModified());
+    QCOMPARE(d.caseFile().mesh.extrusion.surfaceNodes, 23);  // the level's defaults
+    QCOMPARE(d.caseFile().mesh.elasticity.increments, 4);
+    QVERIFY_THROWS_EXCEPTION(aero::CaseError, d.setMeshOptions("huge", 4));
+    QVERIFY_THROWS_EXCEPTION(aero::CaseError, d.setMeshOptions("medium", 0));
+    QCOMPARE(d.undoStack()->count(), 1);
+
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("meshed.json"));
+    d.saveProject(path);
+    Document e;
+    e.openProject(path);
+    QVERIFY(e.caseFile().mesh.present);
+    QCOMPARE(e.caseFile().mesh.level, std::string("medium"));
+    QCOMPARE(e.caseFile().mesh.elasticity.increments, 4);
+    QCOMPARE(caseText(e.caseFile()), caseText(d.caseFile()));
+
+    d.undoStack()->undo();
+    QCOMPARE(changed.count(), 2);
+    QCOMPARE(d.caseFile().mesh.level, std::string("coarse"));
+    QCOMPARE(d.caseFile().mesh.extrusion.surfaceNodes, 17);
+    QCOMPARE(d.caseFile().mesh.elasticity.increments, 6);
 }
 
 void DocumentTest::saveAndReopenRestoresExactly() {

@@ -81,7 +81,7 @@ class MainWindowTest : public QObject {
     void treeTogglesPatchVisibility();
     void droppedFileIsOpened();
     void closeAsksAboutUnsavedChanges();
-    void meshPreviewWaitsForTheMeshLayer();
+    void meshActionsBeforeAPreview();
     void latticeDialogDescribesTheLattice();
 
   private:
@@ -362,12 +362,14 @@ void MainWindowTest::closeAsksAboutUnsavedChanges() {
     QVERIFY(!window_->isWindowModified());
 }
 
-void MainWindowTest::meshPreviewWaitsForTheMeshLayer() {
+void MainWindowTest::meshActionsBeforeAPreview() {
+    // The preview itself is tested in MeshPreviewTest; here: what the menus offer before it.
     QAction* preview = action("actionMeshPreview");
     QVERIFY(preview != nullptr);
-    QVERIFY(!preview->isEnabled());
-    QCOMPARE(preview->toolTip(), QStringLiteral("needs the mesh layer"));
+    QVERIFY(preview->isEnabled());
+    QVERIFY(!action("actionMeshCancel")->isEnabled());
     QVERIFY(!action("actionExportGrid")->isEnabled());
+    QVERIFY(window_->modelTree().gridItem()->child(0)->isDisabled());
 }
 
 void MainWindowTest::latticeDialogDescribesTheLattice() {
