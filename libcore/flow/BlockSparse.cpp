@@ -1,0 +1,74 @@
+#include "flow/BlockSparse.h"
+
+#include <algorithm>
+
+#include "common/Error.h"
+
+namespace aero::flow {
+
+long BlockSparseMatrix::find(long row, long col) const {
+    const auto first = cols.begin() + rowStart[row], last = cols.begin() + rowStart[row + 1];
+    const auto it = std::lower_bound(first, last, col);
+    return (it != last && *it == col) ? static_cast<long>(it - cols.begin()) : -1;
+}
+
+void BlockSparseMatrix::setZero() { std::fill(values.begin(), values.end(), 0.0); }
+
+void BlockSparseMatrix::mult(const double* x, double* y) const {
+#pragma omp parallel for schedule(static)
+    for (long r = 0; r < rows; ++r) {
+        double acc[kBlock] = {};
+        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
+            const double* a = &values[kBlockSize * b];
+            const double* xc = x + kBlock * cols[b];
+            for (int v = 0; v < kBlock; ++v) {
+                double s = 0;
+                for (int w = 0; w < kBlock; ++w) s += a[kBlock * v + w] * xc[w];
+                acc[v] += s;
+            }
+        }
+        for (int v = 0; v < kBlock; ++v) y[kBlock * r + v] = acc[v];
+    }
+}
+
+void BlockSparseMatrix::multTranspose(const double* x, double* y) const {
+    std::fill(y, y + kBlock * rows, 0.0);
+    for (long r = 0; r < rows; ++r) {
+        const double* xr = x + kBlock * r;
+        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
+            const double* a = &values[kBlockSize * b];
+            double* yc = y + kBlock * cols[b];
+            for (int v = 0; v < kBlock; ++v) {
+                for (int w = 0; w < kBlock; ++w) yc[w] += a[kBlock * v + w] * xr[v];
+            }
+        }
+    }
+}
+
+void BlockSparseMatrix::addDiagonal(const double* d) {
+#pragma omp parallel for schedule(static)
+    for (long r = 0; r < rows; ++r) {
+        const long b = find(r, r);
+        AERO_ASSERT(b >= 0);
+        double* a = &values[kBlockSize * b];
+        for (int v = 0; v < kBlock; ++v) a[kBlock * v + v] += d[r];
+    }
+}
+
+BlockSparseMatrix makeBlockSparse(const std::vector<std::vector<long>>& columns) {
+    BlockSparseMatrix A;
+    A.rows = static_cast<long>(columns.size());
+    A.rowStart.assign(A.rows + 1, 0);
+    std::vector<long> row;
+    for (long r = 0; r < A.rows; ++r) {
+        row = columns[r];
+        std::sort(row.begin(), row.end());
+        row.erase(std::unique(row.begin(), row.end()), row.end());
+        A.cols.insert(A.cols.end(), row.begin(), row.end());
+        A.rowStart[r + 1] = static_cast<long>(A.cols.size());
+    }
+    A.values.assign(kBlockSize * A.cols.size(), 0.0);
+    return A;
+}
+
+}  // namespace aero::flow

@@ -1,0 +1,37 @@
+#pragma once
+// A sparse matrix of dense 5x5 blocks (block compressed rows): the flow Jacobian's storage.
+// Block row r couples node r's 5 residuals to the 5 states of the nodes in its row; block values
+// are row-major 5x5 (value(v, w) = d R_v / d q_w). Column indices are sorted within each row.
+#include <vector>
+
+namespace aero::flow {
+
+constexpr int kBlock = 5;
+constexpr int kBlockSize = kBlock * kBlock;
+
+struct BlockSparseMatrix {
+    long rows = 0;                // block rows = block columns (nodes)
+    std::vector<long> rowStart;   // rows + 1
+    std::vector<long> cols;       // block column of each stored block
+    std::vector<double> values;   // kBlockSize per stored block
+
+    long blockCount() const { return static_cast<long>(cols.size()); }
+    /// Index of block (row, col) or -1 (binary search in the row).
+    long find(long row, long col) const;
+    double* block(long index) { return &values[kBlockSize * index]; }
+    const double* block(long index) const { return &values[kBlockSize * index]; }
+    void setZero();
+
+    /// y = A x (x, y: 5 * rows; y is overwritten). OpenMP over rows.
+    void mult(const double* x, double* y) const;
+    /// y = A^T x (for the adjoint).
+    void multTranspose(const double* x, double* y) const;
+    /// A += diag(d_r I5) (d: one value per block row; every diagonal block must be stored).
+    void addDiagonal(const double* d);
+};
+
+/// Builds the sparsity pattern (zero values) from per-row column lists (unsorted, duplicates
+/// allowed).
+BlockSparseMatrix makeBlockSparse(const std::vector<std::vector<long>>& columns);
+
+}  // namespace aero::flow

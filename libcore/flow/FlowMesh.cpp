@@ -1,0 +1,148 @@
+#include "flow/FlowMesh.h"
+
+#include <map>
+#include <utility>
+
+#include "common/Error.h"
+
+namespace aero::flow {
+
+bool onFace(const std::array<int, 3>& dims, long n, int f) {
+    const int i = static_cast<int>(n % dims[0]);
+    const int j = static_cast<int>((n / dims[0]) % dims[1]);
+    const int k = static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]));
+    const int idx[3] = {i, j, k};
+    const int d = faceDirection(f);
+    return idx[d] == (faceIsMax(f) ? dims[d] - 1 : 0);
+}
+
+std::vector<long> faceNodes(const std::array<int, 3>& dims, int f) {
+    const int d = faceDirection(f), a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+    const int fixed = faceIsMax(f) ? dims[d] - 1 : 0;
+    std::vector<long> out;
+    out.reserve(static_cast<std::size_t>(dims[a]) * dims[b]);
+    for (int ib = 0; ib < dims[b]; ++ib) {
+        for (int ia = 0; ia < dims[a]; ++ia) {
+            int idx[3];
+            idx[d] = fixed;
+            idx[a] = ia;
+            idx[b] = ib;
+            out.push_back(idx[0] + static_cast<long>(dims[0]) * (idx[1] + static_cast<long>(dims[1]) * idx[2]));
+        }
+    }
+    return out;
+}
+
+namespace {
+std::string faceLabel(const FlowBlock& b, int index, int f) {
+    return "block " + std::to_string(index + 1) + " ('" + b.name + "') face " + std::to_string(f);
+}
+}  // namespace
+
+FlowMesh makeFlowMesh(std::vector<FlowBlock> blocks, const std::vector<mesh::NodePair>& pairs) {
+    FlowMesh fm;
+    fm.blocks = std::move(blocks);
+    long offset = 0;
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        FlowBlock& blk = fm.blocks[b];
+        for (int d = 0; d < 3; ++d) {
+            if (blk.dims[d] < 2) {
+                throw GeometryError("flow: " + faceLabel(blk, static_cast<int>(b), 2 * d) +
+                                    ": a block needs at least 2 nodes in every direction");
+            }
+        }
+        blk.offset = offset;
+        offset += blk.nodeCount();
+    }
+    fm.nodeCount = offset;
+
+    const int nb = static_cast<int>(fm.blocks.size());
+    std::map<std::pair<int, int>, int> patchOf;  // (block, face) of side A -> patch index
+    for (const mesh::NodePair& p : pairs) {
+        if (p.blockA < 0 || p.blockA >= nb || p.blockB < 0 || p.blockB >= nb) {
+            throw GeometryError("flow: an interface node pair names a block that does not exist");
+        }
+        int found = 0;
+        int fa = -1, fb = -1;
+        const FlowBlock& A = fm.blocks[p.blockA];
+        const FlowBlock& B = fm.blocks[p.blockB];
+        for (int f = 0; f < 6; ++f) {
+            const mesh::FaceBoundary& face = A.faces[f];
+            if (face.kind != mesh::BoundaryKind::Interface || face.neighbour != p.blockB) continue;
+            if (face.neighbourFace < 0 || face.neighbourFace > 5) continue;
+            if (p.blockA == p.blockB && face.neighbourFace == f) continue;
+            if (!onFace(A.dims, p.nodeA, f) || !onFace(B.dims, p.nodeB, face.neighbourFace)) continue;
+            ++found;
+            fa = f;
+            fb = face.neighbourFace;
+        }
+        if (found != 1) {
+            throw GeometryError("flow: interface node " + std::to_string(p.nodeA) + " of " +
+                                faceLabel(A, p.blockA, fa < 0 ? 0 : fa) + " against block " +
+                                std::to_string(p.blockB + 1) + " ('" + B.name + "') " +
+                                (found == 0 ? "lies on no interface face joining the two blocks"
+                                            : "lies on several interface faces joining them"));
+        }
+        // A face pair is stored once, with the side seen first as A.
+        auto it = patchOf.find({p.blockB, fb});
+        if (it != patchOf.end() && fm.interfaces[it->second].blockA == p.blockB &&
+            fm.interfaces[it->second].faceA == fb) {
+            fm.interfaces[it->second].nodes.push_back({p.nodeB, p.nodeA});
+            continue;
+        }
+        auto [jt, inserted] = patchOf.try_emplace({p.blockA, fa}, static_cast<int>(fm.interfaces.size()));
+        if (inserted) fm.interfaces.push_back({p.blockA, fa, p.blockB, fb, {}});
+        fm.interfaces[jt->second].nodes.push_back({p.nodeA, p.nodeB});
+    }
+
+    // Every interface face must be paired node for node.
+    std::map<std::pair<int, int>, long> paired;
+    for (const InterfacePatch& ip : fm.interfaces) {
+        paired[{ip.blockA, ip.faceA}] += static_cast<long>(ip.nodes.size());
+        paired[{ip.blockB, ip.faceB}] += static_cast<long>(ip.nodes.size());
+    }
+    for (int b = 0; b < nb; ++b) {
+        const FlowBlock& blk = fm.blocks[b];
+        for (int f = 0; f < 6; ++f) {
+            if (blk.faces[f].kind != mesh::BoundaryKind::Interface) continue;
+            const long expected = static_cast<long>(faceNodes(blk.dims, f).size());
+            const long got = paired.count({b, f}) ? paired[{b, f}] : 0;
+            if (got != expected) {
+                throw GeometryError("flow: " + faceLabel(blk, b, f) + " is an interface but " +
+                                    std::to_string(got) + " of its " + std::to_string(expected) +
+                                    " nodes have an interface partner");
+            }
+        }
+    }
+    return fm;
+}
+
+FlowMesh makeFlowMesh(const mesh::MultiBlockMesh& m, const std::vector<mesh::StructuredGrid>& grids) {
+    if (grids.size() != m.blocks.size()) {
+        throw GeometryError("flow: " + std::to_string(grids.size()) + " grids for " +
+                            std::to_string(m.blocks.size()) + " mesh blocks");
+    }
+    std::vector<FlowBlock> blocks(m.blocks.size());
+    for (std::size_t b = 0; b < m.blocks.size(); ++b) {
+        blocks[b].name = m.blocks[b].name;
+        blocks[b].dims = grids[b].dims;
+        blocks[b].faces = m.blocks[b].faces;
+    }
+    return makeFlowMesh(std::move(blocks), m.interfaceNodes);
+}
+
+std::vector<double> gatherCoordinates(const FlowMesh& fm,
+                                      const std::vector<mesh::StructuredGrid>& grids) {
+    std::vector<double> x(3 * static_cast<std::size_t>(fm.nodeCount));
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        const FlowBlock& blk = fm.blocks[b];
+        if (grids.at(b).dims != blk.dims) {
+            throw GeometryError("flow: grid of block " + std::to_string(b + 1) + " ('" + blk.name +
+                                "') does not match the flow mesh layout");
+        }
+        std::copy(grids[b].xyz.begin(), grids[b].xyz.end(), x.begin() + 3 * blk.offset);
+    }
+    return x;
+}
+
+}  // namespace aero::flow

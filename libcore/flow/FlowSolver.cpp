@@ -1,0 +1,210 @@
+#include "flow/FlowSolver.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "common/Error.h"
+#include "flow/BlockIlu.h"
+#include "flow/Gmres.h"
+#include "flow/Jacobian.h"
+#include "flow/Metrics.h"
+
+namespace aero::flow {
+
+namespace {
+
+double norm2(const std::vector<double>& v) {
+    double s = 0;
+#pragma omp parallel for reduction(+ : s) schedule(static)
+    for (long i = 0; i < static_cast<long>(v.size()); ++i) s += v[i] * v[i];
+    return std::sqrt(s);
+}
+
+std::string sci(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3e", x);
+    return buf;
+}
+
+// Largest relative change of density and pressure over the nodes for the step dq.
+double largestRelativeChange(long nodes, const double* q, const double* dq, double gamma) {
+    double worst = 0;
+#pragma omp parallel for reduction(max : worst) schedule(static)
+    for (long n = 0; n < nodes; ++n) {
+        const double* a = q + kVars * n;
+        double b[kVars];
+        for (int v = 0; v < kVars; ++v) b[v] = a[v] + dq[kVars * n + v];
+        const double pa = pressure(a, gamma), pb = pressure(b, gamma);
+        worst = std::max({worst, std::abs(b[0] - a[0]) / a[0], std::abs(pb - pa) / pa});
+    }
+    return worst;
+}
+
+}  // namespace
+
+const char* flowStatusName(FlowStatus s) {
+    switch (s) {
+        case FlowStatus::Converged:
+            return "converged";
+        case FlowStatus::MaxIterations:
+            return "max-iterations";
+        case FlowStatus::Stalled:
+            return "stalled";
+        case FlowStatus::Diverged:
+            return "diverged";
+        case FlowStatus::NotANumber:
+            return "nan";
+        case FlowStatus::Cancelled:
+            return "cancelled";
+    }
+    return "unknown";
+}
+
+std::vector<double> timeStepScale(const FlowMesh& fm, const std::vector<double>& metrics,
+                                  const double* q, double gamma) {
+    std::vector<double> s(fm.nodeCount);
+#pragma omp parallel for schedule(static)
+    for (long n = 0; n < fm.nodeCount; ++n) {
+        double sum = 0;
+        for (int d = 0; d < 3; ++d) sum += spectralRadius(q + kVars * n, &metrics[kMetricWidth * n + 3 * d], gamma);
+        s[n] = sum;
+    }
+    return s;
+}
+
+bool isPhysical(const FlowMesh& fm, const double* q, double gamma, long* where) {
+    for (long n = 0; n < fm.nodeCount; ++n) {
+        const double* a = q + kVars * n;
+        bool ok = true;
+        for (int v = 0; v < kVars; ++v) ok = ok && std::isfinite(a[v]);
+        ok = ok && a[0] > 0 && pressure(a, gamma) > 0;
+        if (!ok) {
+            if (where) *where = n;
+            return false;
+        }
+    }
+    return true;
+}
+
+FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
+                     const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& opt,
+                     const std::function<void(const FlowIteration&)>& progress,
+                     const std::atomic<bool>* cancel) {
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    const long N = fm.nodeCount, n = kVars * N;
+    const double gamma = o.freeStream.gamma;
+    if (q.empty()) q = freeStreamState(fm, o.freeStream);
+    if (static_cast<long>(q.size()) != n || static_cast<long>(metrics.size()) != kMetricWidth * N) {
+        throw Error("flow: state or metrics do not match the mesh (" + std::to_string(q.size()) +
+                    " state values, " + std::to_string(metrics.size()) + " metric values for " +
+                    std::to_string(N) + " nodes)");
+    }
+    FlowReport rep;
+    auto finish = [&](FlowStatus s, const std::string& msg) {
+        rep.status = s;
+        rep.message = msg;
+        rep.seconds = elapsed();
+        return rep;
+    };
+    if (!isPhysical(fm, q.data(), gamma)) {
+        return finish(FlowStatus::NotANumber, "the initial state has non-positive density or pressure");
+    }
+
+    std::vector<double> r(n), rNew(n), qNew(n), dq(n), rhs(n), d;
+    residual(fm, metrics.data(), q.data(), o, r.data());
+    const double R0 = norm2(r);
+    rep.initialResidual = rep.finalResidual = R0;
+    if (!std::isfinite(R0)) return finish(FlowStatus::NotANumber, "the initial residual is not finite");
+    if (R0 <= opt.absoluteTolerance) return finish(FlowStatus::Converged, "the initial state is converged");
+
+    ResidualOptions approx = o;
+    approx.lumpedDissipation = true;
+    approx.freezeCoefficients = true;
+    BlockSparseMatrix P = jacobianPattern(fm, 1);
+    BlockIlu ilu;
+    JacobianProduct jp(fm, metrics, o);
+    const LinearMap A = [&](const double* in, double* out) {
+        jp.mult(in, out);
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < n; ++i) out[i] += d[i / kVars] * in[i];
+    };
+    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    const GmresOptions go{opt.gmresRestart, opt.gmresMaxIterations, opt.linearTolerance};
+
+    double Rn = R0, best = R0, cflFactor = 1.0;
+    int bestIteration = 0, rejections = 0;
+    for (int it = 1; it <= opt.maxIterations; ++it) {
+        if (cancel && cancel->load()) {
+            return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
+        }
+        const double cfl = std::min(opt.cflMax, opt.cfl0 * cflFactor * std::pow(R0 / Rn, opt.cflExponent));
+        d = timeStepScale(fm, metrics, q.data(), gamma);
+        for (double& x : d) x /= cfl;
+        assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
+        P.addDiagonal(d.data());
+        bool accepted = false;
+        FlowIteration rec;
+        if (ilu.factor(P)) {
+            jp.setState(q.data());
+            for (long i = 0; i < n; ++i) rhs[i] = -r[i];
+            std::fill(dq.begin(), dq.end(), 0.0);
+            const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go);
+            rep.linearIterations += g.iterations;
+            double alpha = 1.0;
+            const double change = largestRelativeChange(N, q.data(), dq.data(), gamma);
+            if (change > opt.maxRelativeChange) alpha = opt.maxRelativeChange / change;
+            for (int tries = 0; tries < 10; ++tries) {
+                for (long i = 0; i < n; ++i) qNew[i] = q[i] + alpha * dq[i];
+                if (isPhysical(fm, qNew.data(), gamma)) break;
+                alpha *= 0.5;
+            }
+            if (isPhysical(fm, qNew.data(), gamma)) {
+                residual(fm, metrics.data(), qNew.data(), o, rNew.data());
+                const double Rnew = norm2(rNew);
+                if (std::isfinite(Rnew) && Rnew <= 10.0 * Rn) {
+                    accepted = true;
+                    q.swap(qNew);
+                    r.swap(rNew);
+                    Rn = Rnew;
+                    rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, elapsed()};
+                }
+            }
+        }
+        if (!accepted) {
+            if (++rejections > opt.maxRejections) {
+                return finish(FlowStatus::Diverged, "diverged: " + std::to_string(rejections) +
+                                                        " rejected steps (last CFL " + sci(cfl) +
+                                                        "), relative residual " + sci(Rn / R0));
+            }
+            cflFactor *= 0.1;
+            continue;
+        }
+        if (rec.stepScale == 1.0) cflFactor = std::min(1.0, 2.0 * cflFactor);
+        ++rep.iterations;
+        rep.finalResidual = Rn;
+        rep.history.push_back(rec);
+        if (progress) progress(rec);
+        if (Rn <= opt.relativeTolerance * R0 || Rn <= opt.absoluteTolerance) {
+            return finish(FlowStatus::Converged, "converged: residual reduced by " + sci(Rn / R0) + " in " +
+                                                     std::to_string(rep.iterations) + " iterations");
+        }
+        if (Rn > opt.divergenceFactor * R0) {
+            return finish(FlowStatus::Diverged, "diverged: residual grew to " + sci(Rn / R0) + " times the initial one");
+        }
+        if (Rn < 0.99 * best) {
+            best = Rn;
+            bestIteration = it;
+        } else if (it - bestIteration >= opt.stallIterations) {
+            return finish(FlowStatus::Stalled, "stalled: no progress in " + std::to_string(opt.stallIterations) +
+                                                   " iterations at relative residual " + sci(Rn / R0));
+        }
+    }
+    return finish(FlowStatus::MaxIterations, "not converged in " + std::to_string(opt.maxIterations) +
+                                                 " iterations: relative residual " + sci(Rn / R0));
+}
+
+}  // namespace aero::flow

@@ -1,0 +1,76 @@
+#pragma once
+// Steady Euler solution R(q) = 0 (the paper's Eq. 8) by pseudo-transient continuation turning
+// into inexact Newton (Section IV.A): each iteration solves
+//   (V/dt + dR/dq) dq = -R(q),   V/dt = sum_d (|m_d . u| + c |m_d|) / CFL  (local time steps),
+//   CFL = CFL0 (R0 / R)^beta  (capped), growing as the residual falls, so the last iterations are
+// Newton's. The linear systems are solved inexactly by right-preconditioned GMRES with exact
+// Jacobian-vector products (complex step, Jacobian.h) and a block ILU(0) of the approximate
+// Jacobian (lumped first-order dissipation, frozen coefficients) plus V/dt.
+// The solver never returns a silent wrong answer: the report says why it stopped.
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "flow/FlowMesh.h"
+#include "flow/Residual.h"
+
+namespace aero::flow {
+
+struct NewtonOptions {
+    double relativeTolerance = 1e-10;  // stop when ||R|| <= tol ||R0||
+    double absoluteTolerance = 1e-14;  // ... or ||R|| (L2 over all nodes) <= this
+    int maxIterations = 100;           // nonlinear iterations
+    double cfl0 = 5.0;                 // initial CFL
+    double cflExponent = 1.5;          // beta in CFL0 (R0/R)^beta
+    double cflMax = 1e12;              // CFL cap (1e12: effectively Newton)
+    double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
+    int gmresRestart = 40;
+    int gmresMaxIterations = 120;      // per nonlinear iteration
+    double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
+    double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
+    int stallIterations = 25;          // Stalled when the best ||R|| has not improved for this many
+    int maxRejections = 8;             // rejected steps (CFL cut by 10) before giving up
+};
+
+enum class FlowStatus { Converged, MaxIterations, Stalled, Diverged, NotANumber, Cancelled };
+const char* flowStatusName(FlowStatus s);
+
+struct FlowIteration {
+    int iteration = 0;
+    double residual = 0;          // ||R(q)||_2 before the step
+    double relativeResidual = 0;  // residual / ||R0||
+    double cfl = 0;
+    int linearIterations = 0;
+    double linearResidual = 0;    // GMRES relative residual reached
+    double stepScale = 1;         // fraction of the Newton step taken
+    double seconds = 0;           // since the start
+};
+
+struct FlowReport {
+    FlowStatus status = FlowStatus::MaxIterations;
+    std::string message;          // the reason, in words
+    std::vector<FlowIteration> history;
+    int iterations = 0;
+    int linearIterations = 0;
+    double initialResidual = 0, finalResidual = 0;
+    double seconds = 0;
+    bool converged() const { return status == FlowStatus::Converged; }
+};
+
+/// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream
+/// of o.freeStream; on return it holds the last accepted iterate (whatever the status).
+/// progress: called after every accepted iteration; cancel: checked between iterations.
+FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
+                     const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& n = {},
+                     const std::function<void(const FlowIteration&)>& progress = {},
+                     const std::atomic<bool>* cancel = nullptr);
+
+/// sum_d (|m_d . u| + c |m_d|) at every node (the V/dt of CFL = 1).
+std::vector<double> timeStepScale(const FlowMesh& fm, const std::vector<double>& metrics,
+                                  const double* q, double gamma);
+
+/// Whether every node has rho > 0 and p > 0 (and finite values); `where` gets the first bad node.
+bool isPhysical(const FlowMesh& fm, const double* q, double gamma, long* where = nullptr);
+
+}  // namespace aero::flow

@@ -1,0 +1,124 @@
+#include "flow/Residual.h"
+
+#include <complex>
+
+#include "flow/BlockView.h"
+#include "flow/Metrics.h"
+#include "flow/Sbp.h"
+#include "flow/bc/BoundaryFlux.h"
+
+namespace aero::flow {
+
+namespace {
+
+template <class T>
+void inviscidTerm(const BlockView<const T>& q, const BlockView<const T>& m, double gamma,
+                  const BlockView<T>& r) {
+    const long N = q.nodeCount();
+    std::vector<T> F(3 * kVars * static_cast<std::size_t>(N));
+#pragma omp parallel for schedule(static)
+    for (long n = 0; n < N; ++n) {
+        for (int d = 0; d < 3; ++d) normalFlux(q.at(n), m.at(n) + 3 * d, gamma, &F[kVars * (d * N + n)]);
+    }
+    const std::array<int, 3> dims = q.dims;
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < dims[2]; ++k) {
+        for (int j = 0; j < dims[1]; ++j) {
+            for (int i = 0; i < dims[0]; ++i) {
+                const int idx[3] = {i, j, k};
+                const long n = q.node(i, j, k);
+                T* rn = r.at(n);
+                for (int d = 0; d < 3; ++d) {
+                    const T* f = &F[kVars * (d * N + n)];
+                    const long s = kVars * q.stride(d);
+                    for (int v = 0; v < kVars; ++v) rn[v] += sbpDiff(f + v, s, idx[d], dims[d]);
+                }
+            }
+        }
+    }
+}
+
+// (F*(q, qOther, n) - F_n(q)) / H_n added to rn; H_n = 1/2 at every face node.
+template <class T>
+void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const FreeStream& fs,
+            T* rn) {
+    T fstar[kVars], fn[kVars];
+    flux(q, qOther, n, fs, fstar);
+    normalFlux(q, n, fs.gamma, fn);
+    for (int v = 0; v < kVars; ++v) rn[v] += 2.0 * (fstar[v] - fn[v]);
+}
+
+template <class T>
+void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const BlockView<const T>& m,
+                  const FreeStream& fs, const BlockView<T>& r) {
+    for (int f = 0; f < 6; ++f) {
+        const mesh::BoundaryKind kind = blk.faces[f].kind;
+        if (kind == mesh::BoundaryKind::Interface) continue;
+        const BoundaryFluxFn<T> flux = boundaryFlux<T>(kind);
+        const std::vector<long> nodes = faceNodes(blk.dims, f);
+        const long count = static_cast<long>(nodes.size());
+#pragma omp parallel for schedule(static)
+        for (long a = 0; a < count; ++a) {
+            const long node = nodes[a];
+            T n[3];
+            outwardNormal(m.at(node), f, n);
+            addSat(flux, q.at(node), static_cast<const T*>(nullptr), n, fs, r.at(node));
+        }
+    }
+}
+
+template <class T>
+void interfaceTerm(const FlowMesh& fm, const T* metrics, const T* q, const FreeStream& fs, T* r) {
+    const BoundaryFluxFn<T> flux = &interfaceFlux<T>;
+    for (const InterfacePatch& ip : fm.interfaces) {
+        const long offA = fm.blocks[ip.blockA].offset, offB = fm.blocks[ip.blockB].offset;
+        const long count = static_cast<long>(ip.nodes.size());
+        // Within one patch every node appears once per side (unless a block meets itself).
+#pragma omp parallel for schedule(static) if (ip.blockA != ip.blockB)
+        for (long a = 0; a < count; ++a) {
+            const long na = offA + ip.nodes[a][0], nb = offB + ip.nodes[a][1];
+            T n[3];
+            outwardNormal(metrics + kMetricWidth * na, ip.faceA, n);
+            addSat(flux, q + kVars * na, q + kVars * nb, n, fs, r + kVars * na);
+            outwardNormal(metrics + kMetricWidth * nb, ip.faceB, n);
+            addSat(flux, q + kVars * nb, q + kVars * na, n, fs, r + kVars * nb);
+        }
+    }
+}
+
+}  // namespace
+
+template <class T>
+void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r) {
+    const double gamma = o.freeStream.gamma;
+    std::fill(r, r + kVars * fm.nodeCount, T(0.0));
+    for (const FlowBlock& blk : fm.blocks) {
+        const BlockView<const T> qb{q + kVars * blk.offset, blk.dims, kVars};
+        const BlockView<const T> mb{metrics + kMetricWidth * blk.offset, blk.dims, kMetricWidth};
+        const BlockView<T> rb{r + kVars * blk.offset, blk.dims, kVars};
+        if (o.terms & kInviscid) inviscidTerm(qb, mb, gamma, rb);
+        if (o.terms & kDissipation) {
+            addDissipation(qb, mb, o.dissipation, gamma, o.lumpedDissipation, o.freezeCoefficients,
+                           rb);
+        }
+        if (o.terms & kBoundarySat) boundaryTerm(blk, qb, mb, o.freeStream, rb);
+    }
+    if (o.terms & kInterfaceSat) interfaceTerm(fm, metrics, q, o.freeStream, r);
+}
+
+std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs) {
+    const auto s = fs.state();
+    std::vector<double> q(kVars * static_cast<std::size_t>(fm.nodeCount));
+    for (long n = 0; n < fm.nodeCount; ++n) {
+        for (int v = 0; v < kVars; ++v) q[kVars * n + v] = s[v];
+    }
+    return q;
+}
+
+template void residual<double>(const FlowMesh&, const double*, const double*,
+                               const ResidualOptions&, double*);
+template void residual<std::complex<double>>(const FlowMesh&, const std::complex<double>*,
+                                             const std::complex<double>*, const ResidualOptions&,
+                                             std::complex<double>*);
+
+}  // namespace aero::flow

@@ -1,0 +1,56 @@
+#pragma once
+// The semi-discrete Euler residual R(q, x) of the paper's Eq. 8: (1/J) dq/dt + R = 0, with
+//   R = D_xi E^ + D_eta F^ + D_zeta G^          (SBP derivatives of the contravariant fluxes
+//                                                E^ = F_n(q) with n = m_xi = grad(xi)/J, ...)
+//     + dissipation (Dissipation.h)
+//     + boundary SATs (bc/BoundaryFlux.h): (F*(q, .., n_out) - F_n_out(q)) / H_n at face nodes
+//     + interface SATs: the same with F* = upwind flux against the coincident node's state.
+// Layout: q and R hold 5 values per node (rho, rho u, rho v, rho w, rho E; Euler.h gives the
+// nondimensionalization), [k][j][i][5] per block, blocks one after the other (FlowMesh offsets).
+// Metrics come from computeMetrics (kMetricWidth per node, same node order).
+// Templated on the scalar type; instantiated for double and std::complex<double>.
+#include <vector>
+
+#include "flow/Dissipation.h"
+#include "flow/Euler.h"
+#include "flow/FlowMesh.h"
+
+namespace aero::flow {
+
+/// Parts of the residual (for tests and diagnostics; the solver uses kAllTerms).
+enum ResidualTerms : unsigned {
+    kInviscid = 1u,
+    kDissipation = 2u,
+    kBoundarySat = 4u,   // farfield, wall, symmetry
+    kInterfaceSat = 8u,
+    kAllTerms = 15u,
+};
+
+struct ResidualOptions {
+    FreeStream freeStream;
+    DissipationOptions dissipation;
+    unsigned terms = kAllTerms;
+    /// Preconditioner variant: lumped second-difference dissipation (7-point stencil).
+    bool lumpedDissipation = false;
+    /// Dissipation coefficients from the real part of q (constants under complex step).
+    bool freezeCoefficients = false;
+};
+
+/// r = R(q) for all blocks (r is overwritten). q, r: 5 * fm.nodeCount; metrics:
+/// kMetricWidth * fm.nodeCount. OpenMP over k planes inside each block.
+template <class T>
+void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r);
+
+/// The free stream of `fs` at every node (5 * nodeCount).
+std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs);
+
+/// Outward metric vector of face f at a node whose metrics are `m`: -m_d on a min face, +m_d on a
+/// max face (d the face's direction).
+template <class T>
+inline void outwardNormal(const T* m, int f, T* n) {
+    const int d = faceDirection(f);
+    const double s = faceIsMax(f) ? 1.0 : -1.0;
+    for (int c = 0; c < 3; ++c) n[c] = s * m[3 * d + c];
+}
+
+}  // namespace aero::flow

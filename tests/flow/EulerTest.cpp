@@ -1,0 +1,130 @@
+#include "flow/Euler.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <complex>
+#include <random>
+
+#include "common/Error.h"
+#include "flow/bc/BoundaryFlux.h"
+
+using namespace aero;
+using namespace aero::flow;
+using cplx = std::complex<double>;
+
+namespace {
+
+// A random physical state with Mach number up to `maxMach`, and a random metric vector.
+void randomState(std::mt19937& rng, double maxMach, double* q, double* n) {
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    const double rho = 1.0 + 0.5 * U(rng), p = (1.0 + 0.5 * U(rng)) / 1.4;
+    const double c = std::sqrt(1.4 * p / rho);
+    double u[3] = {U(rng), U(rng), U(rng)};
+    const double s = maxMach * c * std::abs(U(rng)) / std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (double& x : u) x *= s;
+    q[0] = rho;
+    for (int a = 0; a < 3; ++a) q[1 + a] = rho * u[a];
+    q[4] = p / 0.4 + 0.5 * rho * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int a = 0; a < 3; ++a) n[a] = 3.0 * U(rng);
+}
+
+Eigen::Matrix<double, 5, 5> fluxJacobian(const double* q, const double* n) {
+    Eigen::Matrix<double, 5, 5> A;
+    const double h = 1e-30;
+    for (int c = 0; c < 5; ++c) {
+        cplx qc[5], nc[3] = {n[0], n[1], n[2]}, f[5];
+        for (int v = 0; v < 5; ++v) qc[v] = q[v];
+        qc[c] += cplx(0, h);
+        normalFlux(qc, nc, 1.4, f);
+        for (int v = 0; v < 5; ++v) A(v, c) = f[v].imag() / h;
+    }
+    return A;
+}
+
+}  // namespace
+
+TEST(Euler, FreeStreamIsNondimensionalizedBySoundSpeedAndDensity) {
+    FreeStream fs{0.5, 1.2, 1.4};
+    const auto q = fs.state();
+    EXPECT_DOUBLE_EQ(q[0], 1.0);
+    EXPECT_NEAR(pressure(q.data(), 1.4), 1.0 / 1.4, 1e-15);
+    EXPECT_NEAR(soundSpeed(q.data(), 1.4), 1.0, 1e-15);
+    const auto u = fs.velocity();
+    EXPECT_NEAR(std::hypot(u[0], u[2]), 0.5, 1e-15);
+    EXPECT_EQ(u[1], 0.0);
+    EXPECT_GT(u[2], 0.0);  // positive alpha: flow from below
+}
+
+TEST(Euler, AbsoluteJacobianMatchesEigendecomposition) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 40; ++trial) {
+        double q[5], n[3];
+        randomState(rng, trial < 20 ? 0.9 : 2.5, q, n);
+        const Eigen::Matrix<double, 5, 5> A = fluxJacobian(q, n);
+        // |A| = sign(A) A, sign(A) by the Newton iteration S <- (S + S^-1)/2 (robust to the
+        // triple eigenvalue, unlike an eigenvector matrix).
+        Eigen::Matrix<double, 5, 5> S = A;
+        for (int it = 0; it < 100; ++it) {
+            const Eigen::Matrix<double, 5, 5> next = 0.5 * (S + S.inverse());
+            const double change = (next - S).norm();
+            S = next;
+            if (change < 1e-15 * S.norm()) break;
+        }
+        const Eigen::Matrix<double, 5, 5> absA = S * A;
+        Eigen::EigenSolver<Eigen::Matrix<double, 5, 5>> es(A, false);
+        const Eigen::Matrix<double, 5, 1> lam = es.eigenvalues().real();
+        Eigen::Matrix<double, 5, 5> ours;
+        for (int c = 0; c < 5; ++c) {
+            double e[5] = {}, out[5];
+            e[c] = 1.0;
+            absJacobianProduct(q, n, e, 1.4, out);
+            for (int v = 0; v < 5; ++v) ours(v, c) = out[v];
+        }
+        EXPECT_LT((ours - absA).norm(), 1e-11 * absA.norm()) << "trial " << trial;
+        // The spectral radius is the largest |eigenvalue|.
+        EXPECT_NEAR(spectralRadius(q, n, 1.4), lam.cwiseAbs().maxCoeff(), 1e-12 * lam.cwiseAbs().maxCoeff());
+    }
+}
+
+TEST(Euler, UpwindFluxIsConsistentAndAntisymmetric) {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 20; ++trial) {
+        double qa[5], qb[5], n[3], m[3], fn[5], f[5], g[5];
+        randomState(rng, 1.5, qa, n);
+        randomState(rng, 1.5, qb, m);
+        normalFlux(qa, n, 1.4, fn);
+        upwindFlux(qa, qa, n, 1.4, f);
+        for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], fn[v], 1e-14 * (1 + std::abs(fn[v])));
+        const double mn[3] = {-n[0], -n[1], -n[2]};
+        upwindFlux(qa, qb, n, 1.4, f);
+        upwindFlux(qb, qa, mn, 1.4, g);
+        for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], -g[v], 1e-14 * (1 + std::abs(f[v])));
+    }
+}
+
+TEST(Euler, BoundaryFluxesByNameAndFreeStreamConsistency) {
+    const FreeStream fs{0.5, 3.0, 1.4};
+    const auto qinf = fs.state();
+    const double n[3] = {0.3, -1.2, 0.7};
+    double fn[5], f[5];
+    normalFlux(qinf.data(), n, 1.4, fn);
+    boundaryFlux<double>("farfield")(qinf.data(), nullptr, n, fs, f);
+    for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], fn[v], 1e-15);
+    boundaryFlux<double>("interface")(qinf.data(), qinf.data(), n, fs, f);
+    for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], fn[v], 1e-15);
+    // Walls and the symmetry plane pass pressure only; a flow along the wall satisfies them.
+    const double nw[3] = {0.0, -2.0, 0.0};
+    normalFlux(qinf.data(), nw, 1.4, fn);
+    for (const char* name : {"wall", "symmetry"}) {
+        boundaryFlux<double>(name)(qinf.data(), nullptr, nw, fs, f);
+        for (int v = 0; v < 5; ++v) EXPECT_EQ(f[v], fn[v]) << name;
+    }
+    EXPECT_EQ(boundaryFlux<double>(mesh::BoundaryKind::Wall), &slipWallFlux<double>);
+    EXPECT_THROW(boundaryFlux<double>("inlet", "flow.boundary"), CaseError);
+    try {
+        boundaryFlux<cplx>("inlet", "flow.boundary");
+    } catch (const CaseError& e) {
+        EXPECT_NE(std::string(e.what()).find("flow.boundary"), std::string::npos);
+    }
+}
