@@ -127,7 +127,12 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     BlockSparseMatrix P = jacobianPattern(fm, 1);
     BlockIlu ilu;
     JacobianProduct jp(fm, metrics, o);
+    bool exact = false;
     const LinearMap A = [&](const double* in, double* out) {
+        if (!exact) {
+            P.mult(in, out);
+            return;
+        }
         jp.mult(in, out);
 #pragma omp parallel for schedule(static)
         for (long i = 0; i < n; ++i) out[i] += d[i / kVars] * in[i];
@@ -135,55 +140,79 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
     const GmresOptions go{opt.gmresRestart, opt.gmresMaxIterations, opt.linearTolerance};
 
-    double Rn = R0, best = R0, cflFactor = 1.0;
+    double Rn = R0, best = R0, cflBase = opt.cfl0;
     int bestIteration = 0, rejections = 0;
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
-        const double cfl = std::min(opt.cflMax, opt.cfl0 * cflFactor * std::pow(R0 / Rn, opt.cflExponent));
+        const double cfl = std::min(opt.cflMax, cflBase * std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
         d = timeStepScale(fm, metrics, q.data(), gamma);
         for (double& x : d) x /= cfl;
         assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
         P.addDiagonal(d.data());
-        bool accepted = false;
+        exact = Rn <= opt.exactBelow * R0;
         FlowIteration rec;
-        if (ilu.factor(P)) {
-            jp.setState(q.data());
+        std::string why;  // why the step was rejected
+        // One pseudo-time step; false when it is rejected (the CFL is then cut).
+        auto step = [&]() -> bool {
+            if (!ilu.factor(P, opt.iluFill)) {
+                why = ilu.message();
+                return false;
+            }
+            if (exact) jp.setState(q.data());
             for (long i = 0; i < n; ++i) rhs[i] = -r[i];
             std::fill(dq.begin(), dq.end(), 0.0);
             const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go);
             rep.linearIterations += g.iterations;
+            if (!(g.relativeResidual <= opt.linearFailure)) {
+                why = "GMRES reduced the linear residual only to " + sci(g.relativeResidual) + " in " +
+                      std::to_string(g.iterations) + " iterations";
+                return false;
+            }
             double alpha = 1.0;
             const double change = largestRelativeChange(N, q.data(), dq.data(), gamma);
             if (change > opt.maxRelativeChange) alpha = opt.maxRelativeChange / change;
-            for (int tries = 0; tries < 10; ++tries) {
+            bool physical = false;
+            for (int tries = 0; tries < 10 && !physical; ++tries) {
                 for (long i = 0; i < n; ++i) qNew[i] = q[i] + alpha * dq[i];
-                if (isPhysical(fm, qNew.data(), gamma)) break;
-                alpha *= 0.5;
+                physical = isPhysical(fm, qNew.data(), gamma);
+                if (!physical) alpha *= 0.5;
             }
-            if (isPhysical(fm, qNew.data(), gamma)) {
-                residual(fm, metrics.data(), qNew.data(), o, rNew.data());
-                const double Rnew = norm2(rNew);
-                if (std::isfinite(Rnew) && Rnew <= 10.0 * Rn) {
-                    accepted = true;
-                    q.swap(qNew);
-                    r.swap(rNew);
-                    Rn = Rnew;
-                    rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, elapsed()};
-                }
+            if (!physical) {
+                why = "the update makes density or pressure negative";
+                return false;
             }
+            residual(fm, metrics.data(), qNew.data(), o, rNew.data());
+            const double Rnew = norm2(rNew);
+            if (!std::isfinite(Rnew) || Rnew > 10.0 * Rn) {
+                why = "the residual would grow to " + sci(Rnew / R0) + " of the initial one";
+                return false;
+            }
+            q.swap(qNew);
+            r.swap(rNew);
+            Rn = Rnew;
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, elapsed()};
+            return true;
+        };
+        bool accepted = step();
+        if (!accepted && exact) {
+            // The exact system was too hard for the preconditioner at this CFL: take an
+            // approximate-Newton step instead before cutting the CFL.
+            exact = false;
+            accepted = step();
         }
         if (!accepted) {
             if (++rejections > opt.maxRejections) {
                 return finish(FlowStatus::Diverged, "diverged: " + std::to_string(rejections) +
-                                                        " rejected steps (last CFL " + sci(cfl) +
+                                                        " steps in a row rejected (last at CFL " + sci(cfl) + ": " + why +
                                                         "), relative residual " + sci(Rn / R0));
             }
-            cflFactor *= 0.1;
+            cflBase = std::max(1e-3 * opt.cfl0, 0.1 * cflBase);
             continue;
         }
-        if (rec.stepScale == 1.0) cflFactor = std::min(1.0, 2.0 * cflFactor);
+        rejections = 0;
+        if (rec.stepScale == 1.0) cflBase = std::min(opt.cflMax, opt.cflGrowth * cflBase);
         ++rep.iterations;
         rep.finalResidual = Rn;
         rep.history.push_back(rec);

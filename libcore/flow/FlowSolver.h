@@ -2,8 +2,9 @@
 // Steady Euler solution R(q) = 0 (the paper's Eq. 8) by pseudo-transient continuation turning
 // into inexact Newton (Section IV.A): each iteration solves
 //   (V/dt + dR/dq) dq = -R(q),   V/dt = sum_d (|m_d . u| + c |m_d|) / CFL  (local time steps),
-//   CFL = CFL0 (R0 / R)^beta  (capped), growing as the residual falls, so the last iterations are
-// Newton's. The linear systems are solved inexactly by right-preconditioned GMRES with exact
+//   CFL = base max(1, (R0 / R)^beta) (capped), the base growing geometrically with every full
+// step and cut after a rejected one, so the CFL grows through the start-up transient (where the
+// residual often rises) and with the residual's fall; the last iterations are Newton's. The linear systems are solved inexactly by right-preconditioned GMRES with exact
 // Jacobian-vector products (complex step, Jacobian.h) and a block ILU(0) of the approximate
 // Jacobian (lumped first-order dissipation, frozen coefficients) plus V/dt.
 // The solver never returns a silent wrong answer: the report says why it stopped.
@@ -20,9 +21,10 @@ namespace aero::flow {
 struct NewtonOptions {
     double relativeTolerance = 1e-10;  // stop when ||R|| <= tol ||R0||
     double absoluteTolerance = 1e-14;  // ... or ||R|| (L2 over all nodes) <= this
-    int maxIterations = 100;           // nonlinear iterations
-    double cfl0 = 5.0;                 // initial CFL
-    double cflExponent = 1.5;          // beta in CFL0 (R0/R)^beta
+    int maxIterations = 300;           // nonlinear iterations (accepted or rejected)
+    double cfl0 = 2.0;                 // initial CFL
+    double cflGrowth = 1.2;            // CFL base grows by this after every full step
+    double cflExponent = 1.0;          // CFL = base max(1, (R0/R)^beta)
     double cflMax = 1e12;              // CFL cap (1e12: effectively Newton)
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
     int gmresRestart = 40;
@@ -30,7 +32,14 @@ struct NewtonOptions {
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
     int stallIterations = 25;          // Stalled when the best ||R|| has not improved for this many
-    int maxRejections = 8;             // rejected steps (CFL cut by 10) before giving up
+    int maxRejections = 8;             // steps rejected in a row (CFL cut by 10 each) before giving up
+    int iluFill = 2;                   // level of fill of the block ILU preconditioner
+    double exactBelow = 1e-3;          // relative residual below which the linear systems use the
+                                       // exact Jacobian (inexact Newton); above it, the
+                                       // approximate Jacobian itself (approximate Newton start-up);
+                                       // an exact step GMRES cannot solve falls back to that
+    double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
+                                       // than this factor is rejected (CFL cut) instead of taken
 };
 
 enum class FlowStatus { Converged, MaxIterations, Stalled, Diverged, NotANumber, Cancelled };
