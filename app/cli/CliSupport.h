@@ -49,9 +49,12 @@ int guarded(const char* command, Fn&& fn) {
 int cmdDeform(const Args& args);
 int cmdMesh(const Args& args);
 int cmdFit(const Args& args);
+int cmdFlow(const Args& args);
 /// The deform command's work for a case file (also `aeroform --batch CASE`).
 int runDeform(const std::string& casePath, bool json, bool list);
 /// The mesh command's work (also `aeroform --batch CASE` for cases with a "mesh" section).
 int runMesh(const std::string& casePath, bool json);
+/// The flow command's work (also `aeroform --batch CASE` for cases with a "flow" section).
+int runFlow(const std::string& casePath, const std::string& restart, bool json);
 
 }  // namespace aero::app

@@ -199,6 +199,7 @@ const char* kMainHelp =
     "  convert IN -o OUT              IGES <-> native JSON, exact\n"
     "  deform CASE [--json]           embed in FFD lattices, deform, check, write IGES + VTK\n"
     "  mesh CASE [--json]             B-spline volume grid, elasticity move, quality, VTK/Plot3D\n"
+    "  flow CASE [--json]             deform, grid, Euler solution: forces, Cp/Mach/entropy VTK\n"
     "  fit GRID.xyz [--json]          fit B-spline volumes to your own Plot3D grid, report errors\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
@@ -226,16 +227,19 @@ int runCli(int argc, char** argv) {
     if (cmd == "deform") return cmdDeform(args);
     if (cmd == "mesh") return cmdMesh(args);
     if (cmd == "fit") return cmdFit(args);
+    if (cmd == "flow") return cmdFlow(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }
 
 int runBatch(const std::string& path) {
-    // A case file runs the whole case (today: the first FFD level); a geometry file is reported.
+    // A case file runs the whole case as deep as it goes; a geometry file is reported.
     if (io::looksLikeCase(path)) {
         std::fprintf(stderr, "[batch] case %s\n", path.c_str());
-        // The deepest stage the case asks for: a mesh section runs the mesh level too.
+        // The deepest stage the case asks for: a flow section runs the flow solver (on the mesh
+        // section's grid), a mesh section the mesh level.
         const io::CaseFile c = io::readCase(path);
+        if (c.flow.present) return runFlow(path, "", false);
         return c.mesh.present ? runMesh(path, false) : runDeform(path, false, false);
     }
     return guarded("batch", [&] {

@@ -11,7 +11,7 @@
 #include "io/VtkXml.h"
 #include "mesh/Plot3d.h"
 #include "mesh/Quality.h"
-#include "study/CaseShape.h"
+#include "study/CaseGrid.h"
 
 namespace aero::app {
 
@@ -57,38 +57,13 @@ int runMesh(const std::string& casePath, bool json) {
         const geometry::PatchSet set = loadPatchSet(c.geometry);
         say("geometry " + c.geometry + ": " + std::to_string(set.size()) + " patches");
 
-        auto t = std::chrono::steady_clock::now();
-        mesh::MultiBlockMesh m = mesh::extrudeToFarfield(set, c.mesh.extrusion);
-        const double secondsGenerate = since(t);
-        char buf[256];
-        std::snprintf(buf, sizeof buf, "level '%s': %zu blocks, %d control nodes, %ld grid nodes (%.3f s)", c.mesh.level.c_str(),
-                      m.blocks.size(), m.controlCount(), m.gridNodeCount(), secondsGenerate);
-        say(buf);
-
         const study::CaseShape shape = study::deformCase(c, set, say);
-        mesh::MoveReport move;
-        double secondsMove = 0;
-        const bool moving = shape.model != nullptr;
-        if (moving) {
-            t = std::chrono::steady_clock::now();
-            move = mesh::moveControlGrid(m, shape.uniqueSurface, c.mesh.elasticity, [&](int i, int n) {
-                std::snprintf(buf, sizeof buf, "elasticity increment %d/%d", i, n);
-                say(buf);
-            });
-            secondsMove = since(t);
-            std::snprintf(buf, sizeof buf, "moved the control grid: %d increments, %d PCG iterations, %d free DOFs, %.3f s",
-                          static_cast<int>(move.cgIterations.size()), move.totalIterations, move.freeDofs, secondsMove);
-            say(buf);
-            if (move.status != mesh::SolveStatus::Converged) {
-                throw Error("'" + casePath + "': mesh movement did not converge: " + move.message);
-            }
-        }
-
-        t = std::chrono::steady_clock::now();
-        const std::vector<mesh::StructuredGrid> grids = mesh::regenerateAll(m);
-        const double secondsRegenerate = since(t);
-        std::snprintf(buf, sizeof buf, "regenerated %ld grid nodes in %.3f s", m.gridNodeCount(), secondsRegenerate);
-        say(buf);
+        study::CaseGrid cg = study::buildCaseGrid(c, set, shape, say);
+        const mesh::MultiBlockMesh& m = cg.mesh;
+        const std::vector<mesh::StructuredGrid>& grids = cg.grids;
+        const mesh::MoveReport& move = cg.move;
+        const bool moving = cg.moved;
+        char buf[256];
 
         std::vector<mesh::CellQuality> q;
         for (const auto& g : grids) q.push_back(mesh::cellQuality(g));
@@ -155,9 +130,9 @@ int runMesh(const std::string& casePath, bool json) {
                 worst.push_back({{"block", w.block}, {"name", w.blockName}, {"cell", w.cell}, {"centroid", w.centroid}, {"scaled_jacobian", w.value}});
             }
             j["worst_cells"] = worst;
-            j["seconds_generate"] = secondsGenerate;
-            j["seconds_move"] = secondsMove;
-            j["seconds_regenerate"] = secondsRegenerate;
+            j["seconds_generate"] = cg.secondsGenerate;
+            j["seconds_move"] = cg.secondsMove;
+            j["seconds_regenerate"] = cg.secondsRegenerate;
             j["outputs"] = outputs;
             j["seconds"] = since(t0);
             std::printf("%s\n", j.dump(2).c_str());

@@ -116,10 +116,15 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
 
     std::vector<double> r(n), rNew(n), qNew(n), dq(n), rhs(n), d;
     residual(fm, metrics.data(), q.data(), o, r.data());
-    const double R0 = norm2(r);
-    rep.initialResidual = rep.finalResidual = R0;
-    if (!std::isfinite(R0)) return finish(FlowStatus::NotANumber, "the initial residual is not finite");
-    if (R0 <= opt.absoluteTolerance) return finish(FlowStatus::Converged, "the initial state is converged");
+    const double Rstart = norm2(r);
+    // Relative measures refer to the first run's initial residual when this run continues one.
+    const double R0 = opt.referenceResidual > 0 ? opt.referenceResidual : Rstart;
+    rep.initialResidual = R0;
+    rep.finalResidual = Rstart;
+    if (!std::isfinite(Rstart)) return finish(FlowStatus::NotANumber, "the initial residual is not finite");
+    if (Rstart <= opt.absoluteTolerance || Rstart <= opt.relativeTolerance * R0) {
+        return finish(FlowStatus::Converged, "the initial state is converged (relative residual " + sci(Rstart / R0) + ")");
+    }
 
     ResidualOptions approx = o;
     approx.lumpedDissipation = true;
@@ -140,7 +145,8 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
     const GmresOptions go{opt.gmresRestart, opt.gmresMaxIterations, opt.linearTolerance};
 
-    double Rn = R0, best = R0, cflBase = opt.cfl0;
+    double Rn = Rstart, best = Rstart, cflBase = opt.cfl0;
+    rep.cflBase = cflBase;
     int bestIteration = 0, rejections = 0;
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
@@ -209,10 +215,12 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                                                         "), relative residual " + sci(Rn / R0));
             }
             cflBase = std::max(1e-3 * opt.cfl0, 0.1 * cflBase);
+            rep.cflBase = cflBase;
             continue;
         }
         rejections = 0;
         if (rec.stepScale == 1.0) cflBase = std::min(opt.cflMax, opt.cflGrowth * cflBase);
+        rep.cflBase = cflBase;
         ++rep.iterations;
         rep.finalResidual = Rn;
         rep.history.push_back(rec);

@@ -38,6 +38,8 @@ struct NewtonOptions {
                                        // exact Jacobian (inexact Newton); above it, the
                                        // approximate Jacobian itself (approximate Newton start-up);
                                        // an exact step GMRES cannot solve falls back to that
+    double referenceResidual = 0;      // ||R0|| of the run this one continues (restart): tolerances,
+                                       // exactBelow and the CFL law refer to it; 0: this run's own
     double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
                                        // than this factor is rejected (CFL cut) instead of taken
 };
@@ -64,6 +66,7 @@ struct FlowReport {
     int linearIterations = 0;
     double initialResidual = 0, finalResidual = 0;
     double seconds = 0;
+    double cflBase = 0;           // the CFL law's base at the end (a restart continues with it)
     bool converged() const { return status == FlowStatus::Converged; }
 };
 

@@ -135,7 +135,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     const Ctx ctx{path};
     ctx.keys(doc, "", {"format", "version", "description", "geometry", "lattices", "design_variables", "values",
-                       "displacements", "embedding", "constraints", "mesh", "output"});
+                       "displacements", "embedding", "constraints", "mesh", "flow", "output"});
     if (!doc.contains("format") || !doc["format"].is_string() || doc["format"] != kFormat) {
         ctx.fail("format", std::string("expected \"") + kFormat + "\"");
     }
@@ -408,9 +408,40 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
             if (mc.elasticity.orthogonalityStiffening < 0) ctx.fail("mesh.orthogonality_stiffening", "must be >= 0");
         }
     }
+    if (doc.contains("flow")) {
+        const json& j = doc["flow"];
+        ctx.keys(j, "flow", {"mach", "alpha", "gamma", "reference_area", "reference_length", "reference_point", "kappa2",
+                             "kappa4", "tolerance", "max_iterations", "cfl0", "cfl_growth", "linear_tolerance",
+                             "ilu_fill", "restart"});
+        FlowCase& fc = c.flow;
+        fc.present = true;
+        fc.reference.area = 3.14159265358979323846 / 2;  // the half-sphere's half frontal disc
+        auto bounded = [&](const char* key, double& out, double lo, double hi, const char* range) {
+            if (!j.contains(key)) return;
+            out = ctx.number(j[key], std::string("flow.") + key);
+            if (!(out > lo && out < hi)) {
+                ctx.fail(std::string("flow.") + key, "value " + std::to_string(out) + " outside " + range);
+            }
+        };
+        bounded("mach", fc.freeStream.mach, 0, 10, "(0, 10)");
+        bounded("alpha", fc.freeStream.alphaDeg, -90, 90, "(-90, 90) degrees");
+        bounded("gamma", fc.freeStream.gamma, 1, 3, "(1, 3)");
+        bounded("reference_area", fc.reference.area, 0, 1e300, "(0, inf)");
+        bounded("reference_length", fc.reference.length, 0, 1e300, "(0, inf)");
+        if (j.contains("reference_point")) fc.reference.point = ctx.numbers<3>(j["reference_point"], "flow.reference_point");
+        bounded("kappa2", fc.dissipation.kappa2, -1e-300, 10, "[0, 10)");
+        bounded("kappa4", fc.dissipation.kappa4, -1e-300, 1, "[0, 1)");
+        bounded("tolerance", fc.newton.relativeTolerance, 0, 1, "(0, 1)");
+        bounded("cfl0", fc.newton.cfl0, 0, 1e12, "(0, 1e12)");
+        bounded("cfl_growth", fc.newton.cflGrowth, 1 - 1e-12, 100, "[1, 100)");
+        bounded("linear_tolerance", fc.newton.linearTolerance, 0, 1, "(0, 1)");
+        if (j.contains("max_iterations")) fc.newton.maxIterations = ctx.integer(j["max_iterations"], "flow.max_iterations", 1, 100000);
+        if (j.contains("ilu_fill")) fc.newton.iluFill = ctx.integer(j["ilu_fill"], "flow.ilu_fill", 0, 4);
+        if (j.contains("restart")) fc.restart = resolve(path, ctx.string(j["restart"], "flow.restart"));
+    }
     if (doc.contains("output")) {
         const json& o = doc["output"];
-        ctx.keys(o, "output", {"geometry", "vtk", "mesh_vtk", "control_vtk", "plot3d"});
+        ctx.keys(o, "output", {"geometry", "vtk", "mesh_vtk", "control_vtk", "plot3d", "flow_vtk", "residual_csv", "restart"});
         if (o.contains("geometry")) c.outputGeometry = resolve(path, ctx.string(o["geometry"], "output.geometry"));
         auto vtm = [&](const char* key, std::string& out) {
             if (!o.contains(key)) return;
@@ -421,6 +452,9 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         vtm("mesh_vtk", c.outputMeshVtk);
         vtm("control_vtk", c.outputControlVtk);
         if (o.contains("plot3d")) c.outputPlot3d = resolve(path, ctx.string(o["plot3d"], "output.plot3d"));
+        vtm("flow_vtk", c.outputFlowVtk);
+        if (o.contains("residual_csv")) c.outputResidualCsv = resolve(path, ctx.string(o["residual_csv"], "output.residual_csv"));
+        if (o.contains("restart")) c.outputRestart = resolve(path, ctx.string(o["restart"], "output.restart"));
     }
     return c;
 }

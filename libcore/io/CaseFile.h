@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "ffd/FfdModel.h"
+#include "flow/FlowSolver.h"
+#include "flow/Outputs.h"
 #include "mesh/Elasticity.h"
 #include "mesh/Extrusion.h"
 
@@ -48,6 +50,17 @@ struct MeshCase {
     mesh::ElasticityOptions elasticity;
 };
 
+/// The flow solution (case key "flow"): free stream, force reference, dissipation and solver
+/// options. A case with a flow section is meshed with the "mesh" section (or its defaults).
+struct FlowCase {
+    bool present = false;
+    flow::FreeStream freeStream;
+    flow::ForceReference reference;   // default area pi/2 (the half-sphere's half frontal disc)
+    flow::DissipationOptions dissipation;
+    flow::NewtonOptions newton;
+    std::string restart;              // start from this restart file (resolved), empty: free stream
+};
+
 struct CaseFile {
     std::string path;       // the case file itself
     std::string description;  // free text, kept when the GUI saves the case
@@ -68,6 +81,10 @@ struct CaseFile {
     std::string outputMeshVtk;                 // grid with quality fields (.vtm)
     std::string outputControlVtk;              // control grid b (.vtm)
     std::string outputPlot3d;                  // grid as multiblock Plot3D (binary .xyz / ASCII .p3d)
+    FlowCase flow;
+    std::string outputFlowVtk;                 // flow solution fields + wall Cp (.vtm)
+    std::string outputResidualCsv;             // residual history (.csv)
+    std::string outputRestart;                 // restart file written at the end (.restart)
 };
 
 /// Reads and validates a case file; throws InputError (file) or CaseError naming the key.

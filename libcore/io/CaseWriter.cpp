@@ -177,12 +177,34 @@ Json caseJson(const CaseFile& c) {
                        {"orthogonality_stiffening", m.orthogonalityStiffening},
                        {"tolerance", m.tolerance}};
     }
+    if (c.flow.present) {
+        const FlowCase& f = c.flow;
+        Json j = {{"mach", f.freeStream.mach},
+                  {"alpha", f.freeStream.alphaDeg},
+                  {"gamma", f.freeStream.gamma},
+                  {"reference_area", f.reference.area},
+                  {"reference_length", f.reference.length},
+                  {"reference_point", f.reference.point},
+                  {"kappa2", f.dissipation.kappa2},
+                  {"kappa4", f.dissipation.kappa4},
+                  {"tolerance", f.newton.relativeTolerance},
+                  {"max_iterations", f.newton.maxIterations},
+                  {"cfl0", f.newton.cfl0},
+                  {"cfl_growth", f.newton.cflGrowth},
+                  {"linear_tolerance", f.newton.linearTolerance},
+                  {"ilu_fill", f.newton.iluFill}};
+        if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
+        doc["flow"] = std::move(j);
+    }
     Json o = Json::object();
     if (!c.outputGeometry.empty()) o["geometry"] = storedPath(c.outputGeometry, c.path);
     if (!c.outputVtk.empty()) o["vtk"] = storedPath(c.outputVtk, c.path);
     if (!c.outputMeshVtk.empty()) o["mesh_vtk"] = storedPath(c.outputMeshVtk, c.path);
     if (!c.outputControlVtk.empty()) o["control_vtk"] = storedPath(c.outputControlVtk, c.path);
     if (!c.outputPlot3d.empty()) o["plot3d"] = storedPath(c.outputPlot3d, c.path);
+    if (!c.outputFlowVtk.empty()) o["flow_vtk"] = storedPath(c.outputFlowVtk, c.path);
+    if (!c.outputResidualCsv.empty()) o["residual_csv"] = storedPath(c.outputResidualCsv, c.path);
+    if (!c.outputRestart.empty()) o["restart"] = storedPath(c.outputRestart, c.path);
     if (!o.empty()) doc["output"] = std::move(o);
     return doc;
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -253,4 +254,56 @@ TEST(Cli, FitAPlot3dGridReproducesTheAnalyticGrid) {
     EXPECT_TRUE(std::filesystem::exists(outputPath("cli_fit/refit.xyz")));
     EXPECT_EQ(run("fit '" + outputPath("cli_fit/grid.xyz") + "' --counts 6,6").code, 2);
     EXPECT_EQ(run("fit '" + tmp("missing.xyz") + "'").code, 1);
+}
+
+// The flow command on a small grid of the sample: a run stopped by its iteration limit fails
+// (exit 1) but keeps its state; --restart continues the same run (iterations and residual
+// history carry on) and converges; a restart from another grid is refused naming the file.
+TEST(Cli, FlowStopsKeepsItsStateAndResumesFromTheRestart) {
+    const std::string mesh = R"("mesh": {"level": "coarse", "refine": 0.5, "grid_wall_spacing": 0.05, "farfield_radius": 5})";
+    const std::string outputs =
+        R"("output": {"flow_vtk": "cli_flow/solution.vtm", "residual_csv": "cli_flow/residual.csv", "restart": "cli_flow/state.restart"})";
+    std::filesystem::remove_all(outputPath("cli_flow"));
+    const std::string partial = writeCase("flow_partial.json", mesh + R"(, "flow": {"mach": 0.5, "max_iterations": 6}, )" + outputs);
+    const Result a = run("flow '" + partial + "' --json");
+    ASSERT_EQ(a.code, 1) << a.err;  // not converged: a failure, with the reason
+    const auto ja = nlohmann::json::parse(a.out);
+    EXPECT_FALSE(ja["converged"].get<bool>());
+    EXPECT_EQ(ja["status"], "max-iterations");
+    EXPECT_EQ(ja["newton_iterations"], 6);
+    EXPECT_EQ(ja["grid_nodes"], 11340);
+    for (const char* key : {"orders_reduced", "linear_iterations", "CL", "CD", "CM", "seconds", "peak_memory_mb"}) {
+        EXPECT_TRUE(ja.contains(key)) << key;
+    }
+    EXPECT_GT(ja["peak_memory_mb"].get<double>(), 1.0);
+    EXPECT_NE(a.err.find("iter    6"), std::string::npos) << a.err;  // a progress line per iteration
+    EXPECT_NE(a.err.find("not converged in 6 iterations"), std::string::npos) << a.err;
+    EXPECT_TRUE(std::filesystem::exists(outputPath("cli_flow/state.restart")));
+    EXPECT_TRUE(std::filesystem::exists(outputPath("cli_flow/solution.vtm")));
+
+    const std::string full = writeCase("flow_full.json", mesh + R"(, "flow": {"mach": 0.5, "max_iterations": 300}, )" + outputs);
+    const Result b = run("flow '" + full + "' --restart '" + outputPath("cli_flow/state.restart") + "' --json");
+    ASSERT_EQ(b.code, 0) << b.err;
+    const auto jb = nlohmann::json::parse(b.out);
+    EXPECT_TRUE(jb["converged"].get<bool>());
+    EXPECT_EQ(jb["initial_residual"], ja["initial_residual"]);  // the same run, continued
+    EXPECT_GE(jb["orders_reduced"].get<double>(), 10.0);
+    EXPECT_EQ(jb["total_iterations"].get<int>(), 6 + jb["newton_iterations"].get<int>());
+    EXPECT_LT(std::abs(jb["CL"].get<double>()), 1e-8);  // alpha 0: no lift by symmetry
+    EXPECT_GT(jb["CD"].get<double>(), 0.0);
+    // The residual history continues the iteration count of the first run.
+    std::istringstream csv(slurp(outputPath("cli_flow/residual.csv")));
+    std::string header, row;
+    std::getline(csv, header);
+    std::getline(csv, row);
+    EXPECT_EQ(row.rfind("7,", 0), 0u) << row;
+
+    // A restart written for another grid is refused, naming the file and the block.
+    const std::string finer = writeCase("flow_finer.json", R"("mesh": {"level": "coarse", "refine": 0.75}, "flow": {})");
+    const Result c = run("flow '" + finer + "' --restart '" + outputPath("cli_flow/state.restart") + "'");
+    EXPECT_EQ(c.code, 1);
+    EXPECT_NE(c.err.find("state.restart"), std::string::npos) << c.err;
+    EXPECT_NE(c.err.find("nodes in the file"), std::string::npos) << c.err;
+    EXPECT_EQ(run("flow").code, 2);
+    EXPECT_EQ(run("flow '" + partial + "' --restart").code, 2);
 }

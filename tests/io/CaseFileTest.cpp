@@ -79,6 +79,11 @@ TEST(CaseFile, BadKeysTypesAndValuesNameTheKey) {
     expectCaseError(R"("constraints": {"min_volume": "big"})", "constraints.min_volume");
     expectCaseError(R"("output": {"vtk": "x.vtk"})", "output.vtk: must end in .vtm");
     expectCaseError(R"("values": {"a": "b"})", "values.a: expected a number");
+    expectCaseError(R"("flow": {"mach": -0.5})", "flow.mach: value -0.500000 outside (0, 10)");
+    expectCaseError(R"("flow": {"alpha": 95})", "flow.alpha");
+    expectCaseError(R"("flow": {"max_iterations": 0})", "flow.max_iterations");
+    expectCaseError(R"("flow": {"reynolds": 1e6})", "flow.reynolds: unknown key");
+    expectCaseError(R"("output": {"flow_vtk": "flow.vts"})", "output.flow_vtk: must end in .vtm");
     EXPECT_THROW(io::parseCase(R"({"format": "aeroform.case", "version": 2, "geometry": "g"})", "c.json"), CaseError);
     EXPECT_THROW(io::parseCase("{", "c.json"), InputError);
     EXPECT_THROW(io::readCase("/no/such/case.json"), InputError);

@@ -106,6 +106,25 @@ void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
     EXPECT_EQ(m.orthogonalityStiffening, n.orthogonalityStiffening);
     EXPECT_EQ(m.tolerance, n.tolerance);
     EXPECT_EQ(m.maxIterations, n.maxIterations);
+    EXPECT_EQ(a.flow.present, b.flow.present);
+    EXPECT_EQ(a.flow.freeStream.mach, b.flow.freeStream.mach);
+    EXPECT_EQ(a.flow.freeStream.alphaDeg, b.flow.freeStream.alphaDeg);
+    EXPECT_EQ(a.flow.freeStream.gamma, b.flow.freeStream.gamma);
+    EXPECT_EQ(a.flow.reference.area, b.flow.reference.area);
+    EXPECT_EQ(a.flow.reference.length, b.flow.reference.length);
+    EXPECT_EQ(a.flow.reference.point, b.flow.reference.point);
+    EXPECT_EQ(a.flow.dissipation.kappa2, b.flow.dissipation.kappa2);
+    EXPECT_EQ(a.flow.dissipation.kappa4, b.flow.dissipation.kappa4);
+    EXPECT_EQ(a.flow.newton.relativeTolerance, b.flow.newton.relativeTolerance);
+    EXPECT_EQ(a.flow.newton.maxIterations, b.flow.newton.maxIterations);
+    EXPECT_EQ(a.flow.newton.cfl0, b.flow.newton.cfl0);
+    EXPECT_EQ(a.flow.newton.cflGrowth, b.flow.newton.cflGrowth);
+    EXPECT_EQ(a.flow.newton.linearTolerance, b.flow.newton.linearTolerance);
+    EXPECT_EQ(a.flow.newton.iluFill, b.flow.newton.iluFill);
+    EXPECT_EQ(a.flow.restart, b.flow.restart);
+    EXPECT_EQ(a.outputFlowVtk, b.outputFlowVtk);
+    EXPECT_EQ(a.outputResidualCsv, b.outputResidualCsv);
+    EXPECT_EQ(a.outputRestart, b.outputRestart);
 }
 
 std::string slurp(const std::string& path) {
@@ -158,8 +177,12 @@ const char* kEveryKey = R"({
   "mesh": {"level": "medium", "farfield_radius": 12.5, "radial_control_points": 9, "control_wall_spacing": 0.003,
            "surface_nodes": 11, "radial_nodes": 21, "grid_wall_spacing": 0.0007, "refine": 1.5, "increments": 4,
            "poisson": 0.1, "size_stiffening": 2, "orthogonality_stiffening": 0.5, "tolerance": 1e-9},
+  "flow": {"mach": 0.3333333333333333, "alpha": -2.5, "gamma": 1.3, "reference_area": 0.1, "reference_length": 2,
+           "reference_point": [0.25, 0, -1e-300], "kappa2": 0, "kappa4": 0.02, "tolerance": 1e-8, "max_iterations": 77,
+           "cfl0": 5, "cfl_growth": 1.5, "linear_tolerance": 0.01, "ilu_fill": 1, "restart": "out/start.restart"},
   "output": {"geometry": "out/wing_deformed.json", "vtk": "/elsewhere/wing.vtm", "mesh_vtk": "out/grid.vtm",
-             "control_vtk": "out/control.vtm", "plot3d": "out/grid.xyz"}
+             "control_vtk": "out/control.vtm", "plot3d": "out/grid.xyz", "flow_vtk": "out/flow.vtm",
+             "residual_csv": "out/residual.csv", "restart": "/elsewhere/end.restart"}
 })";
 
 }  // namespace
@@ -192,6 +215,11 @@ TEST(CaseWriter, EveryKeyRoundTripsExactly) {
     ASSERT_TRUE(c.mesh.present);
     EXPECT_EQ(c.mesh.extrusion.surfaceNodes, 11);
     EXPECT_EQ(c.outputPlot3d, "/projects/wing/out/grid.xyz");
+    ASSERT_TRUE(c.flow.present);
+    EXPECT_EQ(c.flow.freeStream.alphaDeg, -2.5);
+    EXPECT_EQ(c.flow.newton.iluFill, 1);
+    EXPECT_EQ(c.flow.restart, "/projects/wing/out/start.restart");
+    EXPECT_EQ(c.outputRestart, "/elsewhere/end.restart");
 
     const std::string text = io::formatCase(c);
     const io::CaseFile back = io::parseCase(text, c.path);

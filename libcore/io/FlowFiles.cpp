@@ -1,0 +1,259 @@
+#include "io/FlowFiles.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "common/Error.h"
+#include "flow/Outputs.h"
+#include "io/VtkXml.h"
+
+namespace aero::io {
+
+namespace {
+
+constexpr char kMagic[16] = {'A', 'E', 'R', 'O', 'F', 'O', 'R', 'M', '-', 'R', 'E', 'S', 'T', 'A', 'R', 'T'};
+constexpr std::uint32_t kRestartVersion = 1;
+
+// FNV-1a, 64 bit: detects truncation and bit rot, not tampering.
+struct Checksum {
+    std::uint64_t h = 1469598103934665603ull;
+    void add(const void* data, std::size_t n) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < n; ++i) {
+            h ^= p[i];
+            h *= 1099511628211ull;
+        }
+    }
+};
+
+class Writer {
+public:
+    explicit Writer(std::ofstream& out) : out_(out) {}
+    template <class T>
+    void put(const T& v) { bytes(&v, sizeof v); }
+    void bytes(const void* data, std::size_t n) {
+        sum_.add(data, n);
+        out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
+    }
+    std::uint64_t checksum() const { return sum_.h; }
+
+private:
+    std::ofstream& out_;
+    Checksum sum_;
+};
+
+class Reader {
+public:
+    Reader(std::ifstream& in, const std::string& path) : in_(in), path_(path) {}
+    template <class T>
+    T get(const char* what) {
+        T v{};
+        bytes(&v, sizeof v, what);
+        return v;
+    }
+    void bytes(void* data, std::size_t n, const char* what) {
+        in_.read(static_cast<char*>(data), static_cast<std::streamsize>(n));
+        if (static_cast<std::size_t>(in_.gcount()) != n) {
+            throw InputError("restart file '" + path_ + "': truncated (ends inside the " + what + ")");
+        }
+        sum_.add(data, n);
+    }
+    std::uint64_t checksum() const { return sum_.h; }
+
+private:
+    std::ifstream& in_;
+    const std::string& path_;
+    Checksum sum_;
+};
+
+void ensureParent(const std::string& path) {
+    const auto parent = std::filesystem::path(path).parent_path();
+    if (parent.empty()) return;
+    std::error_code ec;
+    std::filesystem::create_directories(parent, ec);
+    if (ec) throw InputError("cannot create the folder of '" + path + "': " + ec.message());
+}
+
+void replaceWith(const std::string& tmp, const std::string& path) {
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw InputError("cannot write '" + path + "': rename failed");
+    }
+}
+
+}  // namespace
+
+void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& q,
+                  const RestartInfo& info) {
+    if (q.size() != static_cast<std::size_t>(flow::kVars * fm.nodeCount)) {
+        throw Error("restart '" + path + "': state has " + std::to_string(q.size()) + " values, the grid needs " +
+                    std::to_string(flow::kVars * fm.nodeCount));
+    }
+    ensureParent(path);
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw InputError("cannot write restart file '" + path + "'");
+        Writer w(out);
+        w.bytes(kMagic, sizeof kMagic);
+        w.put(kRestartVersion);
+        w.put(static_cast<std::uint32_t>(fm.blocks.size()));
+        for (const flow::FlowBlock& b : fm.blocks) {
+            for (int d = 0; d < 3; ++d) w.put(static_cast<std::int32_t>(b.dims[d]));
+        }
+        w.put(info.freeStream.mach);
+        w.put(info.freeStream.alphaDeg);
+        w.put(info.freeStream.gamma);
+        w.put(static_cast<std::int32_t>(info.iterations));
+        w.put(info.residual);
+        w.put(info.initialResidual);
+        w.put(info.cflBase);
+        w.put(static_cast<std::uint64_t>(fm.nodeCount));
+        w.bytes(q.data(), q.size() * sizeof(double));
+        const std::uint64_t sum = w.checksum();
+        out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
+        out.flush();
+        if (!out) {
+            out.close();
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw InputError("cannot write restart file '" + path + "' (disk full?)");
+        }
+    }
+    replaceWith(tmp, path);
+}
+
+std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot open restart file '" + path + "'");
+    Reader r(in, path);
+    char magic[sizeof kMagic];
+    r.bytes(magic, sizeof magic, "header");
+    if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) {
+        throw InputError("'" + path + "' is not an Aeroform restart file");
+    }
+    const auto version = r.get<std::uint32_t>("header");
+    if (version != kRestartVersion) {
+        throw InputError("restart file '" + path + "': version " + std::to_string(version) + ", this build reads " +
+                         std::to_string(kRestartVersion));
+    }
+    const auto blocks = r.get<std::uint32_t>("header");
+    if (blocks != fm.blocks.size()) {
+        throw InputError("restart file '" + path + "' was written for a grid of " + std::to_string(blocks) +
+                         " blocks, this grid has " + std::to_string(fm.blocks.size()));
+    }
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        std::array<std::int32_t, 3> dims{};
+        for (int d = 0; d < 3; ++d) dims[d] = r.get<std::int32_t>("block sizes");
+        const auto& want = fm.blocks[b].dims;
+        if (dims[0] != want[0] || dims[1] != want[1] || dims[2] != want[2]) {
+            auto str = [](auto a) { return std::to_string(a[0]) + "x" + std::to_string(a[1]) + "x" + std::to_string(a[2]); };
+            throw InputError("restart file '" + path + "': block " + std::to_string(b) + " ('" + fm.blocks[b].name +
+                             "') has " + str(dims) + " nodes in the file, " + str(want) + " in this grid");
+        }
+    }
+    RestartInfo ri;
+    ri.freeStream.mach = r.get<double>("free stream");
+    ri.freeStream.alphaDeg = r.get<double>("free stream");
+    ri.freeStream.gamma = r.get<double>("free stream");
+    ri.iterations = r.get<std::int32_t>("iteration data");
+    ri.residual = r.get<double>("iteration data");
+    ri.initialResidual = r.get<double>("iteration data");
+    ri.cflBase = r.get<double>("iteration data");
+    const auto nodes = r.get<std::uint64_t>("node count");
+    if (nodes != static_cast<std::uint64_t>(fm.nodeCount)) {
+        throw InputError("restart file '" + path + "': " + std::to_string(nodes) + " nodes, this grid has " +
+                         std::to_string(fm.nodeCount));
+    }
+    std::vector<double> q(static_cast<std::size_t>(flow::kVars * fm.nodeCount));
+    r.bytes(q.data(), q.size() * sizeof(double), "state");
+    const std::uint64_t expected = r.checksum();
+    std::uint64_t stored = 0;
+    in.read(reinterpret_cast<char*>(&stored), sizeof stored);
+    if (in.gcount() != sizeof stored) throw InputError("restart file '" + path + "': truncated (no checksum)");
+    if (stored != expected) throw InputError("restart file '" + path + "': checksum mismatch (the file is corrupt)");
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        if (!std::isfinite(q[i])) {
+            throw InputError("restart file '" + path + "': non-finite value at node " + std::to_string(i / flow::kVars));
+        }
+    }
+    if (info) *info = ri;
+    return q;
+}
+
+void writeResidualCsv(const std::string& path, const std::vector<flow::FlowIteration>& history, int first) {
+    ensureParent(path);
+    const std::string tmp = path + ".tmp";
+    {
+        std::FILE* f = std::fopen(tmp.c_str(), "w");
+        if (!f) throw InputError("cannot write residual history '" + path + "'");
+        std::fprintf(f, "iteration,residual,relative_residual,cfl,linear_iterations,linear_residual,step_scale,seconds\n");
+        for (const flow::FlowIteration& it : history) {
+            std::fprintf(f, "%d,%.10e,%.10e,%.6e,%d,%.6e,%.6g,%.4f\n", first + it.iteration, it.residual,
+                         it.relativeResidual, it.cfl, it.linearIterations, it.linearResidual, it.stepScale, it.seconds);
+        }
+        const bool ok = std::fflush(f) == 0 && !std::ferror(f);
+        std::fclose(f);
+        if (!ok) throw InputError("cannot write residual history '" + path + "' (disk full?)");
+    }
+    replaceWith(tmp, path);
+}
+
+void writeFlowVtm(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& x,
+                  const std::vector<double>& q, const flow::FreeStream& fs) {
+    const std::vector<double> cp = flow::pressureCoefficient(fm, q, fs);
+    const std::vector<double> mach = flow::machNumber(fm, q, fs.gamma);
+    const std::vector<double> s = flow::entropy(fm, q, fs);
+    auto slice = [](const std::vector<double>& v, int width, long first, long count) {
+        return std::vector<double>(v.begin() + width * first, v.begin() + width * (first + count));
+    };
+
+    std::vector<StructuredBlock> volume, wall;
+    for (const flow::FlowBlock& b : fm.blocks) {
+        const long n = b.nodeCount();
+        StructuredBlock sb{b.name, b.dims, slice(x, 3, b.offset, n), {}, {}};
+        std::vector<double> rho(n), vel(3 * n), p(n);
+        for (long i = 0; i < n; ++i) {
+            const double* qi = &q[flow::kVars * (b.offset + i)];
+            rho[i] = qi[0];
+            for (int c = 0; c < 3; ++c) vel[3 * i + c] = qi[1 + c] / qi[0];
+            p[i] = flow::pressure(qi, fs.gamma);
+        }
+        sb.pointData = {{"density", 1, std::move(rho)},
+                        {"velocity", 3, std::move(vel)},
+                        {"pressure", 1, std::move(p)},
+                        {"Cp", 1, slice(cp, 1, b.offset, n)},
+                        {"Mach", 1, slice(mach, 1, b.offset, n)},
+                        {"entropy", 1, slice(s, 1, b.offset, n)}};
+        volume.push_back(std::move(sb));
+
+        for (int f = 0; f < 6; ++f) {
+            if (b.faces[f].kind != mesh::BoundaryKind::Wall) continue;
+            const int d = flow::faceDirection(f), t1 = d == 0 ? 1 : 0, t2 = d == 2 ? 1 : 2;
+            const std::vector<long> nodes = flow::faceNodes(b.dims, f);
+            StructuredBlock w{b.name + " face " + std::to_string(f), {b.dims[t1], b.dims[t2], 1}, {}, {}, {}};
+            std::vector<double> wcp, wm, ws;
+            for (long local : nodes) {
+                const long g = b.offset + local;
+                for (int c = 0; c < 3; ++c) w.points.push_back(x[3 * g + c]);
+                wcp.push_back(cp[g]);
+                wm.push_back(mach[g]);
+                ws.push_back(s[g]);
+            }
+            w.pointData = {{"Cp", 1, std::move(wcp)}, {"Mach", 1, std::move(wm)}, {"entropy", 1, std::move(ws)}};
+            wall.push_back(std::move(w));
+        }
+    }
+    ensureParent(path);
+    std::vector<MultiBlockGroup> groups{{"flow", std::move(volume)}};
+    if (!wall.empty()) groups.push_back({"wall", std::move(wall)});
+    writeVtm(path, groups);
+}
+
+}  // namespace aero::io

@@ -1,0 +1,46 @@
+#pragma once
+// Files of a flow solution: the restart file (the state q with the layout it belongs to and the
+// free stream it was computed for), the residual history as CSV and the solution fields as VTK
+// XML multiblock for ParaView (volume fields per block plus the wall faces with Cp).
+#include <string>
+#include <vector>
+
+#include "flow/Euler.h"
+#include "flow/FlowMesh.h"
+#include "flow/FlowSolver.h"
+
+namespace aero::io {
+
+/// What a restart file holds besides q.
+struct RestartInfo {
+    flow::FreeStream freeStream;
+    int iterations = 0;       // nonlinear iterations that produced it (cumulative over restarts)
+    double residual = 0;      // ||R|| of the state when it was written
+    double initialResidual = 0;  // ||R0|| of the first run (so orders stay comparable on resume)
+    double cflBase = 0;          // the CFL law's base when it was written
+};
+
+/// Writes q (5 per node, fm's order) to `path`, replacing it atomically (temporary file +
+/// rename: an interrupted write never leaves a truncated restart behind). Binary, little endian:
+/// magic, version, block count, dims of every block, free stream, iteration data, node count,
+/// q, and a checksum of everything before it. Throws InputError naming the path.
+void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& q,
+                  const RestartInfo& info);
+
+/// Reads a restart file for the layout fm. Throws InputError naming the file when it cannot be
+/// read, is not a restart file, is truncated or corrupt (checksum), or was written for another
+/// grid (block count, or the block and its dims that differ).
+std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info = nullptr);
+
+/// The residual history: one row per nonlinear iteration (iteration, residual,
+/// relative_residual, cfl, linear_iterations, linear_residual, step_scale, seconds). `first`
+/// numbers the rows from there (a resumed run continues the count).
+void writeResidualCsv(const std::string& path, const std::vector<flow::FlowIteration>& history, int first = 0);
+
+/// The solution as VTK XML multiblock (`path` ends in .vtm): group "flow" with every block's
+/// grid and the point fields density, velocity, pressure, Cp, Mach, entropy; group "wall" with
+/// every wall face (a surface piece per block face) and Cp, Mach, entropy. x: 3 per node.
+void writeFlowVtm(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& x,
+                  const std::vector<double>& q, const flow::FreeStream& fs);
+
+}  // namespace aero::io

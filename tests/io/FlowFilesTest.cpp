@@ -1,0 +1,144 @@
+// Restart files, residual history and flow VTK output: exact round trips and clear errors.
+#include "io/FlowFiles.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/Error.h"
+
+using namespace aero;
+
+namespace {
+
+std::string outPath(const std::string& name) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/flow_files";
+    std::filesystem::create_directories(dir);
+    return dir + "/" + name;
+}
+
+flow::FlowMesh twoBlocks(int n) {
+    std::vector<flow::FlowBlock> blocks(2);
+    blocks[0].name = "a";
+    blocks[0].dims = {n, n + 1, 3};
+    blocks[1].name = "b";
+    blocks[1].dims = {4, n, 2};
+    blocks[1].faces[4].kind = mesh::BoundaryKind::Wall;
+    return flow::makeFlowMesh(blocks, {});
+}
+
+std::vector<double> someState(const flow::FlowMesh& fm) {
+    std::vector<double> q(flow::kVars * fm.nodeCount);
+    for (std::size_t i = 0; i < q.size(); ++i) q[i] = 1.0 + 1.0 / (3.0 + static_cast<double>(i % 97));
+    return q;
+}
+
+void expectInputError(const std::string& path, const flow::FlowMesh& fm, const std::string& fragment) {
+    try {
+        io::readRestart(path, fm);
+        ADD_FAILURE() << "no error, expected: " << fragment;
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST(FlowFiles, RestartRoundTripsBitExactly) {
+    const flow::FlowMesh fm = twoBlocks(5);
+    const std::vector<double> q = someState(fm);
+    io::RestartInfo info;
+    info.freeStream.mach = 0.3333333333333333;
+    info.freeStream.alphaDeg = -1.25;
+    info.iterations = 42;
+    info.residual = 1.5e-7;
+    info.initialResidual = 0.1;
+    info.cflBase = 1e5 / 3;
+    const std::string path = outPath("a.restart");
+    io::writeRestart(path, fm, q, info);
+    EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+    io::RestartInfo back;
+    const std::vector<double> r = io::readRestart(path, fm, &back);
+    EXPECT_EQ(r, q);
+    EXPECT_EQ(back.freeStream.mach, info.freeStream.mach);
+    EXPECT_EQ(back.freeStream.alphaDeg, info.freeStream.alphaDeg);
+    EXPECT_EQ(back.iterations, 42);
+    EXPECT_EQ(back.residual, info.residual);
+    EXPECT_EQ(back.initialResidual, info.initialResidual);
+    EXPECT_EQ(back.cflBase, info.cflBase);
+}
+
+TEST(FlowFiles, RestartForAnotherGridOrDamagedIsRejectedWithTheReason) {
+    const flow::FlowMesh fm = twoBlocks(5);
+    const std::string path = outPath("b.restart");
+    io::writeRestart(path, fm, someState(fm), {});
+    expectInputError(path, twoBlocks(6), "block 0 ('a') has 5x6x3 nodes in the file, 6x7x3 in this grid");
+
+    const std::string bytes = slurp(path);
+    const std::string cut = outPath("cut.restart");
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    expectInputError(cut, fm, "truncated");
+
+    std::string flipped = bytes;
+    flipped[bytes.size() / 2] ^= 0x10;
+    const std::string bad = outPath("flipped.restart");
+    std::ofstream(bad, std::ios::binary) << flipped;
+    expectInputError(bad, fm, "checksum mismatch");
+
+    const std::string other = outPath("other.restart");
+    std::ofstream(other, std::ios::binary) << "{\"format\": \"aeroform.case\"}";
+    expectInputError(other, fm, "not an Aeroform restart file");
+    expectInputError(outPath("missing.restart"), fm, "cannot open");
+}
+
+TEST(FlowFiles, ResidualCsvHasOneRowPerIterationContinuingTheCount) {
+    std::vector<flow::FlowIteration> h;
+    for (int i = 1; i <= 3; ++i) h.push_back({i, 1.0 / i, 0.1 / i, 10.0 * i, 5 * i, 0.01, 1.0, 0.5 * i});
+    const std::string path = outPath("residual.csv");
+    io::writeResidualCsv(path, h, 10);
+    std::istringstream in(slurp(path));
+    std::string line;
+    std::vector<std::string> lines;
+    while (std::getline(in, line)) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(lines[0].rfind("iteration,residual,relative_residual,cfl,", 0), 0u);
+    EXPECT_EQ(lines[1].rfind("11,1.0000000000e+00,1.0000000000e-01,", 0), 0u) << lines[1];
+    EXPECT_EQ(lines[3].rfind("13,", 0), 0u);
+}
+
+TEST(FlowFiles, FlowVtmHasTheFieldsAndTheWallFaces) {
+    const flow::FlowMesh fm = twoBlocks(4);
+    std::vector<double> x(3 * fm.nodeCount);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.01 * static_cast<double>(i);
+    flow::FreeStream fs;
+    std::vector<double> q(flow::kVars * fm.nodeCount);
+    for (long n = 0; n < fm.nodeCount; ++n) {
+        const auto s = fs.state();
+        std::copy(s.begin(), s.end(), q.begin() + flow::kVars * n);
+    }
+    const std::string path = outPath("flow/solution.vtm");
+    std::filesystem::remove_all(outPath("flow"));
+    io::writeFlowVtm(path, fm, x, q, fs);
+    const std::string vtm = slurp(path);
+    EXPECT_NE(vtm.find("flow"), std::string::npos);
+    EXPECT_NE(vtm.find("wall"), std::string::npos);
+    int pieces = 0;
+    for (const auto& e : std::filesystem::directory_iterator(outPath("flow/solution"))) {
+        ++pieces;
+        const std::string vts = slurp(e.path().string());
+        for (const char* field : {"\"Cp\"", "\"Mach\"", "\"entropy\""}) {
+            EXPECT_NE(vts.find(field), std::string::npos) << e.path() << " lacks " << field;
+        }
+    }
+    EXPECT_EQ(pieces, 3);  // two volume blocks, one wall face
+}
