@@ -27,8 +27,12 @@ struct DissipationOptions {
     double kappa2 = 0.5;   // second difference (shocks), scaled by the pressure switch
     double kappa4 = 0.05;  // fourth difference (background); 0.02 lets an unstable mode grow in
                            // the half-sphere's wake on coarse grids (see docs/validation.md)
-    double lumping = 16.0;  // sigma of the lumped (preconditioner) variant: ILU(0) of it stays
-                            // stable near Newton CFLs from about 16 on (4-8 breaks down)
+    double lumping = 3.0;   // sigma of the lumped (preconditioner) variant. The approximate-Newton
+                            // start-up converges at the rate the lumped operator matches the
+                            // real one: on the 11,340-node half-sphere sigma 16 takes 152
+                            // iterations, 8: 89, 4: 55, 3: 47 (with ILU(1)), 2: 38
+                            // (docs/validation.md); ILU(1-2) of it stays stable from 2 on
+                            // (ILU(0) breaks down below about 16)
 };
 
 /// Pressure-switch and spectral-radius fields of one block, per direction: lambda[d][node],

@@ -412,7 +412,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         const json& j = doc["flow"];
         ctx.keys(j, "flow", {"mach", "alpha", "gamma", "reference_area", "reference_length", "reference_point", "kappa2",
                              "kappa4", "tolerance", "max_iterations", "cfl0", "cfl_growth", "linear_tolerance",
-                             "ilu_fill", "restart"});
+                             "ilu_fill", "lumping", "restart"});
         FlowCase& fc = c.flow;
         fc.present = true;
         fc.reference.area = 3.14159265358979323846 / 2;  // the half-sphere's half frontal disc
@@ -432,6 +432,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         bounded("kappa2", fc.dissipation.kappa2, -1e-300, 10, "[0, 10)");
         bounded("kappa4", fc.dissipation.kappa4, -1e-300, 1, "[0, 1)");
         bounded("tolerance", fc.newton.relativeTolerance, 0, 1, "(0, 1)");
+        bounded("lumping", fc.dissipation.lumping, 0, 1000, "(0, 1000)");
         bounded("cfl0", fc.newton.cfl0, 0, 1e12, "(0, 1e12)");
         bounded("cfl_growth", fc.newton.cflGrowth, 1 - 1e-12, 100, "[1, 100)");
         bounded("linear_tolerance", fc.newton.linearTolerance, 0, 1, "(0, 1)");

@@ -192,7 +192,8 @@ Json caseJson(const CaseFile& c) {
                   {"cfl0", f.newton.cfl0},
                   {"cfl_growth", f.newton.cflGrowth},
                   {"linear_tolerance", f.newton.linearTolerance},
-                  {"ilu_fill", f.newton.iluFill}};
+                  {"ilu_fill", f.newton.iluFill},
+                  {"lumping", f.dissipation.lumping}};
         if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
         doc["flow"] = std::move(j);
     }

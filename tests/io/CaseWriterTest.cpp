@@ -115,6 +115,7 @@ void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
     EXPECT_EQ(a.flow.reference.point, b.flow.reference.point);
     EXPECT_EQ(a.flow.dissipation.kappa2, b.flow.dissipation.kappa2);
     EXPECT_EQ(a.flow.dissipation.kappa4, b.flow.dissipation.kappa4);
+    EXPECT_EQ(a.flow.dissipation.lumping, b.flow.dissipation.lumping);
     EXPECT_EQ(a.flow.newton.relativeTolerance, b.flow.newton.relativeTolerance);
     EXPECT_EQ(a.flow.newton.maxIterations, b.flow.newton.maxIterations);
     EXPECT_EQ(a.flow.newton.cfl0, b.flow.newton.cfl0);
@@ -179,7 +180,7 @@ const char* kEveryKey = R"({
            "poisson": 0.1, "size_stiffening": 2, "orthogonality_stiffening": 0.5, "tolerance": 1e-9},
   "flow": {"mach": 0.3333333333333333, "alpha": -2.5, "gamma": 1.3, "reference_area": 0.1, "reference_length": 2,
            "reference_point": [0.25, 0, -1e-300], "kappa2": 0, "kappa4": 0.02, "tolerance": 1e-8, "max_iterations": 77,
-           "cfl0": 5, "cfl_growth": 1.5, "linear_tolerance": 0.01, "ilu_fill": 1, "restart": "out/start.restart"},
+           "cfl0": 5, "cfl_growth": 1.5, "linear_tolerance": 0.01, "ilu_fill": 3, "lumping": 6, "restart": "out/start.restart"},
   "output": {"geometry": "out/wing_deformed.json", "vtk": "/elsewhere/wing.vtm", "mesh_vtk": "out/grid.vtm",
              "control_vtk": "out/control.vtm", "plot3d": "out/grid.xyz", "flow_vtk": "out/flow.vtm",
              "residual_csv": "out/residual.csv", "restart": "/elsewhere/end.restart"}
@@ -217,7 +218,8 @@ TEST(CaseWriter, EveryKeyRoundTripsExactly) {
     EXPECT_EQ(c.outputPlot3d, "/projects/wing/out/grid.xyz");
     ASSERT_TRUE(c.flow.present);
     EXPECT_EQ(c.flow.freeStream.alphaDeg, -2.5);
-    EXPECT_EQ(c.flow.newton.iluFill, 1);
+    EXPECT_EQ(c.flow.newton.iluFill, 3);
+    EXPECT_EQ(c.flow.dissipation.lumping, 6.0);
     EXPECT_EQ(c.flow.restart, "/projects/wing/out/start.restart");
     EXPECT_EQ(c.outputRestart, "/elsewhere/end.restart");
 
