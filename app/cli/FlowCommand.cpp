@@ -4,6 +4,7 @@
 // (VTK multiblock with Cp, Mach and entropy), the residual history (CSV) and a restart file.
 // Ctrl+C (SIGINT) or SIGTERM stops the solver between iterations; the state reached is kept in
 // the restart file so `--restart` continues where it stopped.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -106,6 +107,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                 // Continue the same run: orders, tolerances and the CFL law refer to its first residual.
                 no.referenceResidual = previous.initialResidual;
                 if (previous.cflBase > 0) no.cfl0 = previous.cflBase;
+                ro.dissipation.lumping = std::max(ro.dissipation.lumping, previous.lumping);
             } else {
                 say("the restart's free stream differs from the case's: it is only the initial guess");
                 previous.iterations = 0;
@@ -131,6 +133,11 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         std::signal(SIGINT, oldInt);
         std::signal(SIGTERM, oldTerm);
         say(std::string(flow::flowStatusName(rep.status)) + ": " + rep.message);
+        if (rep.lumping > ro.dissipation.lumping) {
+            std::snprintf(buf, sizeof buf, "note: GMRES failed on the preconditioner's lumped system; its lumping factor was raised from %g to %g",
+                          ro.dissipation.lumping, rep.lumping);
+            say(buf);
+        }
 
         const flow::ForceCoefficients f = flow::integrateForces(fm, metrics, x, q, ro.freeStream, c.flow.reference);
         const std::vector<double> s = flow::entropy(fm, q, ro.freeStream);
@@ -156,6 +163,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             info.residual = rep.finalResidual;
             info.initialResidual = rep.initialResidual;
             info.cflBase = rep.cflBase;
+            info.lumping = rep.lumping;
             io::writeRestart(restartTo, fm, q, info);
             outputs["restart"] = restartTo;
         }
@@ -181,6 +189,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["newton_iterations"] = rep.iterations;
             j["total_iterations"] = first + rep.iterations;
             j["linear_iterations"] = rep.linearIterations;
+            j["lumping"] = rep.lumping;
             j["initial_residual"] = rep.initialResidual;
             j["final_residual"] = rep.finalResidual;
             j["CL"] = f.CL;

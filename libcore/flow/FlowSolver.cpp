@@ -147,6 +147,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
 
     double Rn = Rstart, best = Rstart, cflBase = opt.cfl0;
     rep.cflBase = cflBase;
+    rep.lumping = approx.dissipation.lumping;
     int bestIteration = 0, rejections = 0;
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
@@ -155,14 +156,19 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         const double cfl = std::min(opt.cflMax, cflBase * std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
         d = timeStepScale(fm, metrics, q.data(), gamma);
         for (double& x : d) x /= cfl;
-        assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
-        P.addDiagonal(d.data());
+        auto assemble = [&] {
+            assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
+            P.addDiagonal(d.data());
+        };
+        assemble();
         exact = Rn <= opt.exactBelow * R0;
         FlowIteration rec;
-        std::string why;  // why the step was rejected
+        std::string why;             // why the step was rejected
+        bool linearFailed = false;   // ... because GMRES could not solve the system
         // One pseudo-time step; false when it is rejected (the CFL is then cut).
         auto step = [&]() -> bool {
             if (!ilu.factor(P, opt.iluFill)) {
+                linearFailed = true;
                 why = ilu.message();
                 return false;
             }
@@ -172,6 +178,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go);
             rep.linearIterations += g.iterations;
             if (!(g.relativeResidual <= opt.linearFailure)) {
+                linearFailed = true;
                 why = "GMRES reduced the linear residual only to " + sci(g.relativeResidual) + " in " +
                       std::to_string(g.iterations) + " iterations";
                 return false;
@@ -206,6 +213,17 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             // The exact system was too hard for the preconditioner at this CFL: take an
             // approximate-Newton step instead before cutting the CFL.
             exact = false;
+            linearFailed = false;
+            accepted = step();
+        }
+        while (!accepted && linearFailed && approx.dissipation.lumping < opt.maxLumping) {
+            // GMRES failed on the lumped system: its ILU lost stability (too little diagonal
+            // dominance for this grid and CFL). More lumping restores it; keep it for the run.
+            approx.dissipation.lumping = std::min(opt.maxLumping, 2.0 * approx.dissipation.lumping);
+            rep.lumping = approx.dissipation.lumping;
+            assemble();
+            exact = false;
+            linearFailed = false;
             accepted = step();
         }
         if (!accepted) {
@@ -214,7 +232,9 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                                                         " steps in a row rejected (last at CFL " + sci(cfl) + ": " + why +
                                                         "), relative residual " + sci(Rn / R0));
             }
-            cflBase = std::max(1e-3 * opt.cfl0, 0.1 * cflBase);
+            // Cut the CFL actually used (not only the base: near convergence the (R0/R) factor
+            // would keep the product at cflMax and the cut would do nothing).
+            cflBase = std::max(1e-3 * opt.cfl0, 0.1 * cfl / std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
             rep.cflBase = cflBase;
             continue;
         }

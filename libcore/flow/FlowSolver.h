@@ -41,6 +41,8 @@ struct NewtonOptions {
                                        // an exact step GMRES cannot solve falls back to that
     double referenceResidual = 0;      // ||R0|| of the run this one continues (restart): tolerances,
                                        // exactBelow and the CFL law refer to it; 0: this run's own
+    double maxLumping = 16;            // when GMRES fails on the lumped system, its lumping factor
+                                       // (DissipationOptions::lumping) is doubled up to this
     double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
                                        // than this factor is rejected (CFL cut) instead of taken
 };
@@ -68,6 +70,8 @@ struct FlowReport {
     double initialResidual = 0, finalResidual = 0;
     double seconds = 0;
     double cflBase = 0;           // the CFL law's base at the end (a restart continues with it)
+    double lumping = 0;           // the preconditioner's lumping factor at the end (raised from
+                                  // the option's when GMRES failed on the lumped system)
     bool converged() const { return status == FlowStatus::Converged; }
 };
 

@@ -114,6 +114,7 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
         w.put(info.residual);
         w.put(info.initialResidual);
         w.put(info.cflBase);
+        w.put(info.lumping);
         w.put(static_cast<std::uint64_t>(fm.nodeCount));
         w.bytes(q.data(), q.size() * sizeof(double));
         const std::uint64_t sum = w.checksum();
@@ -166,6 +167,7 @@ std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& f
     ri.residual = r.get<double>("iteration data");
     ri.initialResidual = r.get<double>("iteration data");
     ri.cflBase = r.get<double>("iteration data");
+    ri.lumping = r.get<double>("iteration data");
     const auto nodes = r.get<std::uint64_t>("node count");
     if (nodes != static_cast<std::uint64_t>(fm.nodeCount)) {
         throw InputError("restart file '" + path + "': " + std::to_string(nodes) + " nodes, this grid has " +

@@ -18,6 +18,7 @@ struct RestartInfo {
     double residual = 0;      // ||R|| of the state when it was written
     double initialResidual = 0;  // ||R0|| of the first run (so orders stay comparable on resume)
     double cflBase = 0;          // the CFL law's base when it was written
+    double lumping = 0;          // the preconditioner's lumping factor then (0: not recorded)
 };
 
 /// Writes q (5 per node, fm's order) to `path`, replacing it atomically (temporary file +

@@ -189,7 +189,7 @@ const char* kEveryKey = R"({
 }  // namespace
 
 TEST(CaseWriter, SamplesRoundTripExactly) {
-    for (const char* name : {"half_sphere_ffd.json", "bwb_deform.json"}) {
+    for (const char* name : {"half_sphere_ffd.json", "bwb_deform.json", "half_sphere_flow.json"}) {
         SCOPED_TRACE(name);
         const io::CaseFile c = io::readCase(std::string(AEROFORM_SAMPLES_DIR) + "/" + name);
         const std::string text = io::formatCase(c);
@@ -198,7 +198,9 @@ TEST(CaseWriter, SamplesRoundTripExactly) {
         EXPECT_EQ(io::formatCase(io::parseCase(text, c.path)), text);
         // The sample's geometry sits next to it: written relative, as in the sample.
         EXPECT_NE(text.find("\"geometry\": \"half_sphere.igs\""), std::string::npos) << text;
-        EXPECT_NE(text.find("\"counts\": [6, 6, 2]"), std::string::npos) << text;
+        if (!c.lattices.empty()) {
+            EXPECT_NE(text.find("\"counts\": [6, 6, 2]"), std::string::npos) << text;
+        }
     }
 }
 

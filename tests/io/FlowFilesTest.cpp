@@ -64,6 +64,7 @@ TEST(FlowFiles, RestartRoundTripsBitExactly) {
     info.residual = 1.5e-7;
     info.initialResidual = 0.1;
     info.cflBase = 1e5 / 3;
+    info.lumping = 6;
     const std::string path = outPath("a.restart");
     io::writeRestart(path, fm, q, info);
     EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
@@ -76,6 +77,7 @@ TEST(FlowFiles, RestartRoundTripsBitExactly) {
     EXPECT_EQ(back.residual, info.residual);
     EXPECT_EQ(back.initialResidual, info.initialResidual);
     EXPECT_EQ(back.cflBase, info.cflBase);
+    EXPECT_EQ(back.lumping, 6.0);
 }
 
 TEST(FlowFiles, RestartForAnotherGridOrDamagedIsRejectedWithTheReason) {
