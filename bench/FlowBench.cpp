@@ -120,7 +120,7 @@ void BM_PreconditionerSetup(benchmark::State& st, const char* name) {
     for (auto _ : st) {
         flow::assembleApproximateJacobian(g.fm, g.metrics, q.data(), o, P);
         P.addDiagonal(d.data());
-        if (!ilu.factor(P, 2)) st.SkipWithError(ilu.message().c_str());
+        if (!ilu.factor(P, flow::NewtonOptions{}.iluFill)) st.SkipWithError(ilu.message().c_str());
         ilu.solve(b.data(), x.data());
         benchmark::DoNotOptimize(x.data());
     }

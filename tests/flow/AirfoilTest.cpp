@@ -216,9 +216,11 @@ TEST(Airfoil, Naca0012AtMachHalfAndOneAndAQuarterDegreesMatchesTheReferenceLift)
     const double mmax = *std::max_element(mach.begin(), mach.end());
     std::printf("NACA 0012 M 0.5 alpha 1.25 (%ld nodes): CL %.5f (reference %.4f)  CD %.6f  CM %.6f  max Mach %.3f\n",
                 c.fm.nodeCount, f.CL, kReferenceCL, f.CD, f.CM, mmax);
-    // Measured: CL 0.17945 (-0.2 %). The tolerance (1.7 %) rejects thin-airfoil theory with
-    // Prandtl-Glauert (0.158) and a 2 % error in the angle of attack.
-    EXPECT_NEAR(f.CL, kReferenceCL, 0.003);
+    // Measured: CL 0.17945, 0.2 % below the reference -- partly by chance: the finer grids of
+    // docs/validation.md give 0.1849 and 0.1846 at this kappa4, 2.7 % above it (the cause is not
+    // found). The tolerance covers that and still rejects thin-airfoil theory with
+    // Prandtl-Glauert (0.158) and the kappa4 = 0.05 coarse-grid value (0.1603).
+    EXPECT_NEAR(f.CL, kReferenceCL, 0.008);
     EXPECT_LT(std::abs(f.CD), 5e-3);
     EXPECT_LT(std::abs(f.CM), 5e-3);
     EXPECT_LT(std::abs(f.CY), 1e-10);  // the flow is two-dimensional
