@@ -139,6 +139,15 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             say(buf);
         }
 
+        const bool failed = rep.status == flow::FlowStatus::Stalled || rep.status == flow::FlowStatus::Diverged ||
+                            rep.status == flow::FlowStatus::NotANumber;
+        if (failed && c.mesh.extrusion.gridWallSpacing < 0.05) {
+            std::snprintf(buf, sizeof buf,
+                          "hint: grids with grid_wall_spacing %g are known not to converge yet (a mode grows on the rear "
+                          "axis, docs/validation.md, known problem 3); \"mesh\": {\"grid_wall_spacing\": 0.05} converges",
+                          c.mesh.extrusion.gridWallSpacing);
+            say(buf);
+        }
         const flow::ForceCoefficients f = flow::integrateForces(fm, metrics, x, q, ro.freeStream, c.flow.reference);
         const std::vector<double> s = flow::entropy(fm, q, ro.freeStream);
         const std::vector<double> mach = flow::machNumber(fm, q, ro.freeStream.gamma);
