@@ -110,6 +110,17 @@ bool BlockIlu::factor(const BlockSparseMatrix& A, int fill) {
     return true;
 }
 
+namespace {
+// y -= A x for one 5x5 row-major block A.
+inline void subtractBlockProduct(const double* a, const double* x, double* y) {
+    for (int v = 0; v < kBlock; ++v) {
+        double s = 0;
+        for (int w = 0; w < kBlock; ++w) s += a[kBlock * v + w] * x[w];
+        y[v] -= s;
+    }
+}
+}  // namespace
+
 void BlockIlu::solve(const double* b, double* x) const {
     // Plain loops over raw blocks (the compiler unrolls the 5x5 products fully); Eigen's
     // fixed-size 5-vectors made this 4-5x slower than a matrix product with as many blocks.
@@ -120,13 +131,7 @@ void BlockIlu::solve(const double* b, double* x) const {
         double y[kBlock];
         for (int v = 0; v < kBlock; ++v) y[v] = b[kBlock * i + v];
         for (long c = lu_.rowStart[i]; c < diag_[i]; ++c) {
-            const double* a = vals + kBlockSize * c;
-            const double* xc = x + kBlock * cols[c];
-            for (int v = 0; v < kBlock; ++v) {
-                double s = 0;
-                for (int w = 0; w < kBlock; ++w) s += a[kBlock * v + w] * xc[w];
-                y[v] -= s;
-            }
+            subtractBlockProduct(vals + kBlockSize * c, x + kBlock * cols[c], y);
         }
         for (int v = 0; v < kBlock; ++v) x[kBlock * i + v] = y[v];
     }
@@ -134,13 +139,7 @@ void BlockIlu::solve(const double* b, double* x) const {
         double y[kBlock];
         for (int v = 0; v < kBlock; ++v) y[v] = x[kBlock * i + v];
         for (long c = diag_[i] + 1; c < lu_.rowStart[i + 1]; ++c) {
-            const double* a = vals + kBlockSize * c;
-            const double* xc = x + kBlock * cols[c];
-            for (int v = 0; v < kBlock; ++v) {
-                double s = 0;
-                for (int w = 0; w < kBlock; ++w) s += a[kBlock * v + w] * xc[w];
-                y[v] -= s;
-            }
+            subtractBlockProduct(vals + kBlockSize * c, x + kBlock * cols[c], y);
         }
         const double* d = &dinv_[kBlockSize * i];
         for (int v = 0; v < kBlock; ++v) {

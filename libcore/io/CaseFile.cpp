@@ -416,10 +416,12 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         FlowCase& fc = c.flow;
         fc.present = true;
         fc.reference.area = 3.14159265358979323846 / 2;  // the half-sphere's half frontal disc
+        // `range` is the interval as the message shows it; "[" makes the lower bound inclusive.
         auto bounded = [&](const char* key, double& out, double lo, double hi, const char* range) {
             if (!j.contains(key)) return;
             out = ctx.number(j[key], std::string("flow.") + key);
-            if (!(out > lo && out < hi)) {
+            const bool aboveLo = range[0] == '[' ? out >= lo : out > lo;
+            if (!(aboveLo && out < hi)) {
                 ctx.fail(std::string("flow.") + key, "value " + std::to_string(out) + " outside " + range);
             }
         };
@@ -429,12 +431,12 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         bounded("reference_area", fc.reference.area, 0, 1e300, "(0, inf)");
         bounded("reference_length", fc.reference.length, 0, 1e300, "(0, inf)");
         if (j.contains("reference_point")) fc.reference.point = ctx.numbers<3>(j["reference_point"], "flow.reference_point");
-        bounded("kappa2", fc.dissipation.kappa2, -1e-300, 10, "[0, 10)");
-        bounded("kappa4", fc.dissipation.kappa4, -1e-300, 1, "[0, 1)");
+        bounded("kappa2", fc.dissipation.kappa2, 0, 10, "[0, 10)");
+        bounded("kappa4", fc.dissipation.kappa4, 0, 1, "[0, 1)");
         bounded("tolerance", fc.newton.relativeTolerance, 0, 1, "(0, 1)");
         bounded("lumping", fc.dissipation.lumping, 0, 1000, "(0, 1000)");
         bounded("cfl0", fc.newton.cfl0, 0, 1e12, "(0, 1e12)");
-        bounded("cfl_growth", fc.newton.cflGrowth, 1 - 1e-12, 100, "[1, 100)");
+        bounded("cfl_growth", fc.newton.cflGrowth, 1, 100, "[1, 100)");
         bounded("linear_tolerance", fc.newton.linearTolerance, 0, 1, "(0, 1)");
         if (j.contains("max_iterations")) fc.newton.maxIterations = ctx.integer(j["max_iterations"], "flow.max_iterations", 1, 100000);
         if (j.contains("ilu_fill")) fc.newton.iluFill = ctx.integer(j["ilu_fill"], "flow.ilu_fill", 0, 4);
