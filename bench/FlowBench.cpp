@@ -1,10 +1,11 @@
 // Flow solver costs on the half-sphere grids. Run: OMP_WAIT_POLICY=passive build/release/bench/bench_flow
 //  - residual evaluation (double) and its throughput in nodes/s, on 1 and 2 threads (the
 //    OpenMP speed-up is the ratio of the two in the same run);
-//  - exact Jacobian assembly (coloured complex step) and the approximate Jacobian + block ILU(2)
-//    of one Newton iteration; a matrix-free exact Jacobian-vector product;
+//  - exact Jacobian assembly (coloured complex step); a matrix-free exact Jacobian-vector
+//    product; the block ILU(1) factorization and solve of the preconditioner (args: threads,
+//    parts of its ordering; 1 part = natural order, sequential);
 //  - a full solve of the small half-sphere grid (Mach 0.5, 11,340 nodes) with iterations,
-//    GMRES iterations and peak memory as counters.
+//    GMRES iterations and peak memory as counters (args: threads, ILU parts).
 // Grids: "small" = coarse level at refine 0.5, farfield 5, wall spacing 0.05 (the solver test's);
 // "coarse" = the coarse level itself (75,140 nodes, farfield 20).
 #include <benchmark/benchmark.h>
@@ -107,26 +108,55 @@ void BM_JacobianProduct(benchmark::State& st, const char* name) {
 }
 BENCHMARK_CAPTURE(BM_JacobianProduct, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_PreconditionerSetup(benchmark::State& st, const char* name) {
-    const Grid& g = grid(name);
+// The preconditioner of one Newton iteration: approximate Jacobian + time-step diagonal, then
+// the block ILU factorization, then one ILU solve; args: threads, parts of the ILU ordering
+// (1 = the natural order, sequential).
+struct Preconditioner {
+    flow::BlockSparseMatrix P;
+    flow::BlockIlu ilu;
+};
+
+Preconditioner preconditioner(const Grid& g, int parts) {
     flow::ResidualOptions o;
     o.lumpedDissipation = true;
     o.freezeCoefficients = true;
     const std::vector<double> q = state(g.fm, o.freeStream);
-    flow::BlockSparseMatrix P = flow::jacobianPattern(g.fm, 1);
-    const std::vector<double> d = flow::timeStepScale(g.fm, g.metrics, q.data(), o.freeStream.gamma);
-    flow::BlockIlu ilu;
-    std::vector<double> b(q.size(), 1.0), x(q.size());
+    Preconditioner pc;
+    pc.P = flow::jacobianPattern(g.fm, 1);
+    flow::assembleApproximateJacobian(g.fm, g.metrics, q.data(), o, pc.P);
+    pc.P.addDiagonal(flow::timeStepScale(g.fm, g.metrics, q.data(), o.freeStream.gamma).data());
+    if (parts > 1) pc.ilu.setOrdering(flow::partitionOrdering(pc.P, flow::blockGroups(g.fm, parts), parts));
+    return pc;
+}
+
+void BM_IluFactor(benchmark::State& st, const char* name) {
+    const Grid& g = grid(name);
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(static_cast<int>(st.range(0)));
+    Preconditioner pc = preconditioner(g, static_cast<int>(st.range(1)));
     for (auto _ : st) {
-        flow::assembleApproximateJacobian(g.fm, g.metrics, q.data(), o, P);
-        P.addDiagonal(d.data());
-        if (!ilu.factor(P, flow::NewtonOptions{}.iluFill)) st.SkipWithError(ilu.message().c_str());
-        ilu.solve(b.data(), x.data());
+        if (!pc.ilu.factor(pc.P, flow::NewtonOptions{}.iluFill)) st.SkipWithError(pc.ilu.message().c_str());
+    }
+    omp_set_num_threads(before);
+    st.counters["ilu_blocks"] = static_cast<double>(pc.ilu.storedBlocks());
+    st.counters["separator_rows"] = static_cast<double>(pc.ilu.ordering().partStart.back() - pc.ilu.ordering().partStart.end()[-2]);
+}
+BENCHMARK_CAPTURE(BM_IluFactor, coarse, "coarse")->Args({1, 1})->Args({1, 2})->Args({2, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_IluSolve(benchmark::State& st, const char* name) {
+    const Grid& g = grid(name);
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(static_cast<int>(st.range(0)));
+    Preconditioner pc = preconditioner(g, static_cast<int>(st.range(1)));
+    if (!pc.ilu.factor(pc.P, flow::NewtonOptions{}.iluFill)) st.SkipWithError(pc.ilu.message().c_str());
+    std::vector<double> b(flow::kVars * g.fm.nodeCount, 1.0), x(b.size());
+    for (auto _ : st) {
+        pc.ilu.solve(b.data(), x.data());
         benchmark::DoNotOptimize(x.data());
     }
-    st.counters["ilu_blocks"] = static_cast<double>(ilu.storedBlocks());
+    omp_set_num_threads(before);
 }
-BENCHMARK_CAPTURE(BM_PreconditionerSetup, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_IluSolve, coarse, "coarse")->Args({1, 1})->Args({1, 2})->Args({2, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SolveHalfSphere(benchmark::State& st, const char* name) {
     const Grid& g = grid(name);
@@ -134,10 +164,12 @@ void BM_SolveHalfSphere(benchmark::State& st, const char* name) {
     const int before = omp_get_max_threads();
     omp_set_num_threads(threads);
     flow::ResidualOptions o;
+    flow::NewtonOptions n;
+    n.preconditionerParts = static_cast<int>(st.range(1));
     flow::FlowReport rep;
     for (auto _ : st) {
         std::vector<double> q;
-        rep = flow::solveFlow(g.fm, g.metrics, o, q);
+        rep = flow::solveFlow(g.fm, g.metrics, o, q, n);
         benchmark::DoNotOptimize(q.data());
     }
     omp_set_num_threads(before);
@@ -148,7 +180,7 @@ void BM_SolveHalfSphere(benchmark::State& st, const char* name) {
     st.counters["orders"] = std::log10(rep.initialResidual / rep.finalResidual);
     st.counters["peak_memory_mb"] = peakMemoryMb();
 }
-BENCHMARK_CAPTURE(BM_SolveHalfSphere, small, "small")->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_SolveHalfSphere, small, "small")->Args({1, 1})->Args({2, 1})->Args({2, 2})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 }  // namespace
 

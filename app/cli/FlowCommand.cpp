@@ -125,6 +125,12 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         auto oldTerm = std::signal(SIGTERM, onSignal);
         const int first = previous.iterations;
         const flow::FlowReport rep = flow::solveFlow(fm, metrics, ro, q, no, [&](const flow::FlowIteration& it) {
+            if (!it.rejected.empty()) {
+                std::snprintf(buf, sizeof buf, "iter %4d  rejected at CFL %.2e (%s), retrying  %7.1f s",
+                              first + it.iteration, it.cfl, it.rejected.c_str(), it.seconds);
+                say(buf);
+                return;
+            }
             std::snprintf(buf, sizeof buf, "iter %4d  residual %.3e  (rel %.2e)  CFL %.2e  GMRES %3d (%.1e)  step %.2f  %7.1f s",
                           first + it.iteration, it.residual, it.relativeResidual, it.cfl, it.linearIterations,
                           it.linearResidual, it.stepScale, it.seconds);
@@ -132,7 +138,8 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         }, &gCancel);
         std::signal(SIGINT, oldInt);
         std::signal(SIGTERM, oldTerm);
-        say(std::string(flow::flowStatusName(rep.status)) + ": " + rep.message);
+        const std::string status = flow::flowStatusName(rep.status);
+        say(rep.message.rfind(status, 0) == 0 ? rep.message : status + ": " + rep.message);
         if (rep.lumping > ro.dissipation.lumping) {
             std::snprintf(buf, sizeof buf, "note: GMRES failed on the preconditioner's lumped system; its lumping factor was raised from %g to %g",
                           ro.dissipation.lumping, rep.lumping);

@@ -12,21 +12,50 @@
 
 namespace aero::flow {
 
+/// A symmetric permutation for the factorization that lets it run in parallel: rows of part 0,
+/// part 1, ..., part P-1, then the separator (every row coupled to a row of another part). A
+/// part's rows couple only to their own part and to the separator, so the parts' factorizations
+/// and triangular solves are independent (one thread each) and only the separator's rows run
+/// after them: the same preconditioner on 1 or P threads, with the coupling between the parts
+/// kept (not a block-Jacobi that drops it).
+struct IluOrdering {
+    std::vector<long> order;      // order[new row] = original row
+    std::vector<long> partStart;  // P + 2 entries: part p is [partStart[p], partStart[p+1]); the
+                                  // separator is [partStart[P], partStart[P+1] = rows)
+    int parts() const { return static_cast<int>(partStart.size()) - 2; }
+};
+
+/// The ordering for a row -> part assignment (values 0..parts-1) of A's rows; parts must be >= 1.
+IluOrdering partitionOrdering(const BlockSparseMatrix& A, const std::vector<int>& partOfRow,
+                              int parts);
+
 class BlockIlu {
 public:
+    /// Factor and solve in this row order (empty ordering: the matrix's own order, sequential).
+    /// Takes effect at the next factor().
+    void setOrdering(IluOrdering ordering);
     /// Symbolic phase: the pattern of L + U for A's pattern and fill level p. Needed once per
     /// pattern; factor() calls it when the pattern or p changed.
     void analyze(const BlockSparseMatrix& A, int fill);
     /// Numeric factorization of A with fill level p. Returns false, and names the row in
     /// message(), if a pivot block is singular or not finite.
     bool factor(const BlockSparseMatrix& A, int fill = 0);
-    /// x = (L U)^-1 b (x and b: 5 per block row; may not alias). Sequential.
+    /// x = (L U)^-1 b (x and b: 5 per block row; may not alias). Parallel over the ordering's
+    /// parts.
     void solve(const double* b, double* x) const;
     const std::string& message() const { return message_; }
     long storedBlocks() const { return lu_.blockCount(); }
+    const IluOrdering& ordering() const { return ordering_; }
 
 private:
-    BlockSparseMatrix lu_;
+    void factorRows(long first, long last, std::vector<long>& where, std::string& message);
+    void forwardRows(long first, long last, double* x) const;
+    void backwardRows(long first, long last, double* x) const;
+
+    IluOrdering ordering_;
+    std::vector<long> position_;  // position_[original row] = new row
+    mutable std::vector<double> work_;
+    BlockSparseMatrix lu_;       // in the new row order
     std::vector<long> diag_;     // index of each row's diagonal block
     std::vector<double> dinv_;   // inverted diagonal blocks of U
     std::vector<long> source_;   // for each block of A, its index in lu_

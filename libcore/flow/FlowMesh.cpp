@@ -1,5 +1,6 @@
 #include "flow/FlowMesh.h"
 
+#include <algorithm>
 #include <map>
 #include <utility>
 
@@ -143,6 +144,16 @@ std::vector<double> gatherCoordinates(const FlowMesh& fm,
         std::copy(grids[b].xyz.begin(), grids[b].xyz.end(), x.begin() + 3 * blk.offset);
     }
     return x;
+}
+
+std::vector<int> blockGroups(const FlowMesh& fm, int groups) {
+    std::vector<int> group(fm.nodeCount, 0);
+    for (const FlowBlock& b : fm.blocks) {
+        const double middle = static_cast<double>(b.offset) + 0.5 * static_cast<double>(b.nodeCount());
+        const int g = static_cast<int>(groups * middle / static_cast<double>(fm.nodeCount));
+        std::fill(group.begin() + b.offset, group.begin() + b.offset + b.nodeCount(), std::clamp(g, 0, groups - 1));
+    }
+    return group;
 }
 
 }  // namespace aero::flow

@@ -56,4 +56,9 @@ FlowMesh makeFlowMesh(const mesh::MultiBlockMesh& m, const std::vector<mesh::Str
 std::vector<double> gatherCoordinates(const FlowMesh& fm,
                                       const std::vector<mesh::StructuredGrid>& grids);
 
+/// Each node's group when the blocks are split into `groups` runs of consecutive blocks of
+/// about equal node count (a block joins the group holding its middle node); for the parallel
+/// ILU ordering (BlockIlu.h).
+std::vector<int> blockGroups(const FlowMesh& fm, int groups);
+
 }  // namespace aero::flow

@@ -1,5 +1,6 @@
 #include "flow/FlowSolver.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -131,6 +132,9 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     approx.freezeCoefficients = true;
     BlockSparseMatrix P = jacobianPattern(fm, 1);
     BlockIlu ilu;
+    if (opt.preconditionerParts > 1) {
+        ilu.setOrdering(partitionOrdering(P, blockGroups(fm, opt.preconditionerParts), opt.preconditionerParts));
+    }
     JacobianProduct jp(fm, metrics, o);
     bool exact = false;
     const LinearMap A = [&](const double* in, double* out) {
@@ -177,6 +181,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             std::fill(dq.begin(), dq.end(), 0.0);
             const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go);
             rep.linearIterations += g.iterations;
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {
                 linearFailed = true;
                 why = "GMRES reduced the linear residual only to " + sci(g.relativeResidual) + " in " +
@@ -205,16 +210,26 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             q.swap(qNew);
             r.swap(rNew);
             Rn = Rnew;
-            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, elapsed()};
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, elapsed(), {}};
             return true;
         };
-        bool accepted = step();
+        // A rejected attempt is reported too: the retries (more lumping, a smaller CFL) can take
+        // long on a big grid, and a silent minute looks like a hang.
+        auto attempt = [&]() -> bool {
+            rec = {it, Rn, Rn / R0, cfl, 0, 0.0, 0.0, 0.0, {}};
+            if (step()) return true;
+            rec.seconds = elapsed();
+            rec.rejected = why;
+            if (progress) progress(rec);
+            return false;
+        };
+        bool accepted = attempt();
         if (!accepted && exact) {
             // The exact system was too hard for the preconditioner at this CFL: take an
             // approximate-Newton step instead before cutting the CFL.
             exact = false;
             linearFailed = false;
-            accepted = step();
+            accepted = attempt();
         }
         while (!accepted && linearFailed && approx.dissipation.lumping < opt.maxLumping) {
             // GMRES failed on the lumped system: its ILU lost stability (too little diagonal
@@ -224,7 +239,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             assemble();
             exact = false;
             linearFailed = false;
-            accepted = step();
+            accepted = attempt();
         }
         if (!accepted) {
             if (++rejections > opt.maxRejections) {

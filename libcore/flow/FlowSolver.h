@@ -45,6 +45,14 @@ struct NewtonOptions {
                                        // (DissipationOptions::lumping) is doubled up to this
     double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
                                        // than this factor is rejected (CFL cut) instead of taken
+    int preconditionerParts = 1;       // > 1: the ILU factors and solves this many groups of mesh
+                                       // blocks in parallel, their coupling kept through a
+                                       // separator ordered last (BlockIlu.h); fixed rather than
+                                       // the thread count, so a run's iterations are the same on
+                                       // any machine. 1 (natural order, sequential) is the
+                                       // default: on the 75k half-sphere 2 parts made the ILU
+                                       // weaker (1,682 GMRES instead of 877, lumping raised to 12,
+                                       // 298 s instead of 219 s; docs/performance.md)
 };
 
 enum class FlowStatus { Converged, MaxIterations, Stalled, Diverged, NotANumber, Cancelled };
@@ -59,6 +67,9 @@ struct FlowIteration {
     double linearResidual = 0;    // GMRES relative residual reached
     double stepScale = 1;         // fraction of the Newton step taken
     double seconds = 0;           // since the start
+    std::string rejected;         // non-empty: this attempt was rejected, and why (the iteration
+                                  // is tried again with a smaller CFL or more lumping; not in
+                                  // FlowReport::history)
 };
 
 struct FlowReport {
@@ -77,7 +88,7 @@ struct FlowReport {
 
 /// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream
 /// of o.freeStream; on return it holds the last accepted iterate (whatever the status).
-/// progress: called after every accepted iteration; cancel: checked between iterations.
+/// progress: called after every accepted iteration and every rejected attempt (rejected set); cancel: checked between iterations.
 FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                      const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& n = {},
                      const std::function<void(const FlowIteration&)>& progress = {},

@@ -193,6 +193,7 @@ Json caseJson(const CaseFile& c) {
                   {"cfl_growth", f.newton.cflGrowth},
                   {"linear_tolerance", f.newton.linearTolerance},
                   {"ilu_fill", f.newton.iluFill},
+                  {"ilu_parts", f.newton.preconditionerParts},
                   {"lumping", f.dissipation.lumping}};
         if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
         doc["flow"] = std::move(j);

@@ -1,6 +1,9 @@
 // Block ILU and GMRES: exact where the theory says so, and the preconditioned solve converges.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
+#include <algorithm>
 #include <random>
 
 #include "flow/BlockIlu.h"
@@ -84,6 +87,72 @@ TEST(BlockIlu, ReportsASingularPivotNamingTheRow) {
     BlockIlu ilu;
     EXPECT_FALSE(ilu.factor(A, 0));
     EXPECT_NE(ilu.message().find("row 3"), std::string::npos) << ilu.message();
+}
+
+// Parts of a grid matrix: the columns i < split of an nx-wide grid are part 0, the rest part 1.
+std::vector<int> columnParts(const BlockSparseMatrix& A, int nx, int split) {
+    std::vector<int> part(A.rows);
+    for (long r = 0; r < A.rows; ++r) part[r] = (r % nx) < split ? 0 : 1;
+    return part;
+}
+
+TEST(BlockIlu, PartitionOrderingLeavesNoCouplingBetweenTheParts) {
+    const BlockSparseMatrix A = gridMatrix(12, 8, 9);
+    const IluOrdering o = partitionOrdering(A, columnParts(A, 12, 5), 2);
+    ASSERT_EQ(o.parts(), 2);
+    ASSERT_EQ(o.partStart.size(), 4u);
+    std::vector<long> sorted = o.order;
+    std::sort(sorted.begin(), sorted.end());
+    for (long r = 0; r < A.rows; ++r) ASSERT_EQ(sorted[r], r);  // a permutation
+    // One side of the cut only: the 8 rows of column 5 (part 1 next to part 0).
+    EXPECT_EQ(o.partStart[3] - o.partStart[2], 8);
+    std::vector<int> group(A.rows);
+    for (int g = 0; g < 3; ++g) {
+        for (long i = o.partStart[g]; i < o.partStart[g + 1]; ++i) group[o.order[i]] = g;
+    }
+    for (long r = 0; r < A.rows; ++r) {
+        for (long b = A.rowStart[r]; b < A.rowStart[r + 1]; ++b) {
+            const int gr = group[r], gc = group[A.cols[b]];
+            EXPECT_TRUE(gr == gc || gr == 2 || gc == 2) << "rows " << r << " and " << A.cols[b];
+        }
+    }
+    EXPECT_THROW(partitionOrdering(A, std::vector<int>(3, 0), 2), std::invalid_argument);
+    EXPECT_THROW(partitionOrdering(A, std::vector<int>(A.rows, 2), 2), std::invalid_argument);
+}
+
+TEST(BlockIlu, OrderedFactorizationIsExactWithFullFillAndTheSameOnAnyThreadCount) {
+    const BlockSparseMatrix A = gridMatrix(10, 7, 11);
+    const std::vector<double> b = randomVector(kBlock * A.rows, 12);
+    // Complete fill: the ordered factorization is an exact LU of the permuted matrix.
+    BlockIlu complete;
+    complete.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
+    ASSERT_TRUE(complete.factor(A, 40)) << complete.message();
+    std::vector<double> x(b.size());
+    complete.solve(b.data(), x.data());
+    EXPECT_LT(maxError(A, x, b), 1e-12);
+    // ILU(1): the parts run on separate threads, with identical results on one.
+    std::vector<double> x1(b.size()), x2(b.size());
+    const int before = omp_get_max_threads();
+    for (int threads : {1, 2}) {
+        omp_set_num_threads(threads);
+        BlockIlu ilu;
+        ilu.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
+        ASSERT_TRUE(ilu.factor(A, 1)) << ilu.message();
+        ilu.solve(b.data(), (threads == 1 ? x1 : x2).data());
+    }
+    omp_set_num_threads(before);
+    EXPECT_EQ(x1, x2);
+    EXPECT_LT(maxError(A, x1, b), 0.5 * maxError(A, std::vector<double>(b.size(), 0.0), b));
+}
+
+TEST(BlockIlu, OrderedFactorizationNamesTheOriginalRowOfASingularPivot) {
+    BlockSparseMatrix A = gridMatrix(6, 4, 13);
+    const long bad = 2 + 6 * 3;  // in part 0, numbered differently in the ordering
+    for (long c : {bad, bad - 1, bad + 1, bad - 6}) std::fill(A.block(A.find(bad, c)), A.block(A.find(bad, c)) + kBlockSize, 0.0);
+    BlockIlu ilu;
+    ilu.setOrdering(partitionOrdering(A, columnParts(A, 6, 3), 2));
+    EXPECT_FALSE(ilu.factor(A, 0));
+    EXPECT_NE(ilu.message().find("row " + std::to_string(bad)), std::string::npos) << ilu.message();
 }
 
 TEST(Gmres, PreconditionedByIluSolvesAGridSystem) {

@@ -122,6 +122,7 @@ void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
     EXPECT_EQ(a.flow.newton.cflGrowth, b.flow.newton.cflGrowth);
     EXPECT_EQ(a.flow.newton.linearTolerance, b.flow.newton.linearTolerance);
     EXPECT_EQ(a.flow.newton.iluFill, b.flow.newton.iluFill);
+    EXPECT_EQ(a.flow.newton.preconditionerParts, b.flow.newton.preconditionerParts);
     EXPECT_EQ(a.flow.restart, b.flow.restart);
     EXPECT_EQ(a.outputFlowVtk, b.outputFlowVtk);
     EXPECT_EQ(a.outputResidualCsv, b.outputResidualCsv);
@@ -180,7 +181,7 @@ const char* kEveryKey = R"({
            "poisson": 0.1, "size_stiffening": 2, "orthogonality_stiffening": 0.5, "tolerance": 1e-9},
   "flow": {"mach": 0.3333333333333333, "alpha": -2.5, "gamma": 1.3, "reference_area": 0.1, "reference_length": 2,
            "reference_point": [0.25, 0, -1e-300], "kappa2": 0, "kappa4": 0.02, "tolerance": 1e-8, "max_iterations": 77,
-           "cfl0": 5, "cfl_growth": 1.5, "linear_tolerance": 0.01, "ilu_fill": 3, "lumping": 6, "restart": "out/start.restart"},
+           "cfl0": 5, "cfl_growth": 1.5, "linear_tolerance": 0.01, "ilu_fill": 3, "ilu_parts": 4, "lumping": 6, "restart": "out/start.restart"},
   "output": {"geometry": "out/wing_deformed.json", "vtk": "/elsewhere/wing.vtm", "mesh_vtk": "out/grid.vtm",
              "control_vtk": "out/control.vtm", "plot3d": "out/grid.xyz", "flow_vtk": "out/flow.vtm",
              "residual_csv": "out/residual.csv", "restart": "/elsewhere/end.restart"}
@@ -221,6 +222,7 @@ TEST(CaseWriter, EveryKeyRoundTripsExactly) {
     ASSERT_TRUE(c.flow.present);
     EXPECT_EQ(c.flow.freeStream.alphaDeg, -2.5);
     EXPECT_EQ(c.flow.newton.iluFill, 3);
+    EXPECT_EQ(c.flow.newton.preconditionerParts, 4);
     EXPECT_EQ(c.flow.dissipation.lumping, 6.0);
     EXPECT_EQ(c.flow.restart, "/projects/wing/out/start.restart");
     EXPECT_EQ(c.outputRestart, "/elsewhere/end.restart");
