@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "cli/CliSupport.h"
@@ -205,6 +207,12 @@ const char* kMainHelp =
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
 
 }  // namespace
+
+void ensurePassiveOpenMpWaiting(char** argv) {
+    if (std::getenv("OMP_WAIT_POLICY")) return;
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
+}
 
 int runCli(int argc, char** argv) {
     if (argc < 2) {

@@ -102,6 +102,8 @@ int runScreenshot(QApplication& app, aero::ui::MainWindow& window, const GuiOpti
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Background flow runs (and --batch) use OpenMP: never let its threads spin.
+    aero::app::ensurePassiveOpenMpWaiting(argv);
     // Options that must not create a Qt application are handled before it exists.
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
