@@ -41,7 +41,7 @@ public:
     /// message(), if a pivot block is singular or not finite.
     bool factor(const BlockSparseMatrix& A, int fill = 0);
     /// x = (L U)^-1 b (x and b: 5 per block row; may not alias). Parallel over the ordering's
-    /// parts.
+    /// parts. Uses a work vector of the object: not for concurrent calls on one BlockIlu.
     void solve(const double* b, double* x) const;
     const std::string& message() const { return message_; }
     long storedBlocks() const { return lu_.blockCount(); }
