@@ -23,8 +23,9 @@ IluOrdering partitionOrdering(const BlockSparseMatrix& A, const std::vector<int>
                                     std::to_string(parts) + " parts");
     }
     // Of every stored block (r, c) linking two parts, the row of the higher part goes to the
-    // separator; then no block links two parts' remaining rows. (One side of each cut only: a
-    // separator twice as big, both sides, cost the small half-sphere 27 % more GMRES iterations.)
+    // separator; then no block links two parts' remaining rows. (One side of each cut suffices;
+    // both sides double the separator, and on the small half-sphere took as many GMRES
+    // iterations: 592 against 594, both about 27 % more than the natural order's 465.)
     std::vector<int> group(A.rows);
     for (long r = 0; r < A.rows; ++r) {
         const int p = partOfRow[r];
