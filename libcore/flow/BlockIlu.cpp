@@ -12,7 +12,6 @@ namespace {
 using Block = Eigen::Matrix<double, kBlock, kBlock, Eigen::RowMajor>;
 using Map = Eigen::Map<Block>;
 using ConstMap = Eigen::Map<const Block>;
-using Vec = Eigen::Matrix<double, kBlock, 1>;
 }  // namespace
 
 IluOrdering partitionOrdering(const BlockSparseMatrix& A, const std::vector<int>& partOfRow,
@@ -178,15 +177,14 @@ void BlockIlu::factorRows(long firstRow, long lastRow, std::vector<long>& where,
         diag_[i] = where[i];
         for (long b = first; b < last; ++b) where[lu_.cols[b]] = -1;
         // Rows are named by their original number (the matrix's, e.g. the grid node).
-        const std::string name = std::to_string(ordering_.order[i]);
         if (diag_[i] < 0) {
-            message = "ILU: row " + name + " has no diagonal block";
+            message = "ILU: row " + std::to_string(ordering_.order[i]) + " has no diagonal block";
             return;
         }
         const Block D = ConstMap(lu_.block(diag_[i]));
         Eigen::FullPivLU<Block> lu(D);
         if (!D.allFinite() || !lu.isInvertible()) {
-            message = "ILU: singular or non-finite pivot block in row " + name;
+            message = "ILU: singular or non-finite pivot block in row " + std::to_string(ordering_.order[i]);
             return;
         }
         Map dinv(&dinv_[kBlockSize * i]);

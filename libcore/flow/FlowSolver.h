@@ -88,7 +88,8 @@ struct FlowReport {
 
 /// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream
 /// of o.freeStream; on return it holds the last accepted iterate (whatever the status).
-/// progress: called after every accepted iteration and every rejected attempt (rejected set); cancel: checked between iterations.
+/// progress: called after every accepted iteration and every rejected attempt (rejected set);
+/// cancel: checked between iterations.
 FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                      const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& n = {},
                      const std::function<void(const FlowIteration&)>& progress = {},
