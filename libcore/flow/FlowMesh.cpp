@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <unordered_map>
 #include <utility>
 
 #include "common/Error.h"
@@ -34,10 +35,67 @@ std::vector<long> faceNodes(const std::array<int, 3>& dims, int f) {
     return out;
 }
 
+long faceNodeIndex(const std::array<int, 3>& dims, int f, long n) {
+    const int d = faceDirection(f), a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+    const int idx[3] = {static_cast<int>(n % dims[0]), static_cast<int>((n / dims[0]) % dims[1]),
+                        static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]))};
+    return idx[a] + static_cast<long>(dims[a]) * idx[b];
+}
+
 namespace {
 std::string faceLabel(const FlowBlock& b, int index, int f) {
     return "block " + std::to_string(index + 1) + " ('" + b.name + "') face " + std::to_string(f);
 }
+
+// Groups the wall nodes that interface pairs join (union-find over global nodes) into junctions.
+void findWallJunctions(FlowMesh& fm) {
+    std::unordered_map<long, long> parent;
+    auto find = [&](long n) {
+        long r = n;
+        while (parent[r] != r) r = parent[r];
+        while (parent[n] != r) n = std::exchange(parent[n], r);
+        return r;
+    };
+    for (const InterfacePatch& ip : fm.interfaces) {
+        const long offA = fm.blocks[ip.blockA].offset, offB = fm.blocks[ip.blockB].offset;
+        for (const auto& pr : ip.nodes) {
+            const long a = offA + pr[0], b = offB + pr[1];
+            parent.try_emplace(a, a);
+            parent.try_emplace(b, b);
+            parent[find(a)] = find(b);
+        }
+    }
+    struct Member {
+        int block, face;
+        long index;  // in faceNodes order
+        long node;   // global
+    };
+    std::map<long, std::vector<Member>> groups;  // by root: deterministic order
+    for (int b = 0; b < static_cast<int>(fm.blocks.size()); ++b) {
+        const FlowBlock& blk = fm.blocks[b];
+        for (int f = 0; f < 6; ++f) {
+            if (blk.faces[f].kind != mesh::BoundaryKind::Wall) continue;
+            const std::vector<long> nodes = faceNodes(blk.dims, f);
+            for (long a = 0; a < static_cast<long>(nodes.size()); ++a) {
+                const long g = blk.offset + nodes[a];
+                if (parent.count(g)) groups[find(g)].push_back({b, f, a, g});
+            }
+        }
+    }
+    for (const auto& [root, members] : groups) {
+        if (members.size() < 2) continue;
+        const int id = static_cast<int>(fm.wallJunctions.size());
+        WallJunction& j = fm.wallJunctions.emplace_back();
+        for (const Member& m : members) {
+            FlowBlock& blk = fm.blocks[m.block];
+            std::vector<int>& slot = blk.junction[m.face];
+            if (slot.empty()) slot.assign(faceNodes(blk.dims, m.face).size(), -1);
+            slot[m.index] = id;
+            j.members.push_back({m.node, m.face});
+        }
+    }
+}
+
 }  // namespace
 
 FlowMesh makeFlowMesh(std::vector<FlowBlock> blocks, const std::vector<mesh::NodePair>& pairs) {
@@ -115,6 +173,7 @@ FlowMesh makeFlowMesh(std::vector<FlowBlock> blocks, const std::vector<mesh::Nod
             }
         }
     }
+    findWallJunctions(fm);
     return fm;
 }
 

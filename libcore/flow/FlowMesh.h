@@ -17,6 +17,9 @@ struct FlowBlock {
     std::array<int, 3> dims{0, 0, 0};  // nodes along i, j, k (each >= 2)
     long offset = 0;                   // first global node of the block
     std::array<mesh::FaceBoundary, 6> faces;
+    /// Per wall face: the wall junction (FlowMesh::wallJunctions) of every face node in
+    /// faceNodes order, -1 for none; empty when the face has no junction node.
+    std::array<std::vector<int>, 6> junction;
 
     long nodeCount() const { return static_cast<long>(dims[0]) * dims[1] * dims[2]; }
 };
@@ -28,9 +31,18 @@ struct InterfacePatch {
     std::vector<std::array<long, 2>> nodes;
 };
 
+/// Coincident wall nodes of several blocks (a wall node on an interface): (global node, wall
+/// face) per member. Each block's metric normal there comes from one-sided tangential differences
+/// at its edge and is tilted by O(h) from the wall's normal, in opposite senses on the two sides,
+/// so the slip-wall SATs use a shared normal instead (wallJunctionNormals, Residual.h).
+struct WallJunction {
+    std::vector<std::array<long, 2>> members;
+};
+
 struct FlowMesh {
     std::vector<FlowBlock> blocks;
     std::vector<InterfacePatch> interfaces;
+    std::vector<WallJunction> wallJunctions;
     long nodeCount = 0;
 };
 
@@ -41,10 +53,13 @@ inline bool faceIsMax(int f) { return f % 2 == 1; }
 bool onFace(const std::array<int, 3>& dims, long n, int f);
 /// Local nodes of face f, the lower tangential index fastest.
 std::vector<long> faceNodes(const std::array<int, 3>& dims, int f);
+/// Position of local node n (which lies on face f) in faceNodes(dims, f).
+long faceNodeIndex(const std::array<int, 3>& dims, int f, long n);
 
 /// Builds the layout from blocks (offsets are recomputed) and interface node pairs (block and
 /// local node indices; any order of the two sides). Every pair is assigned to the face pair it
-/// lies on. Throws GeometryError naming the block and face if a pair fits no interface face or
+/// lies on, and wall nodes joined through pairs (directly or via other blocks) form the wall
+/// junctions. Throws GeometryError naming the block and face if a pair fits no interface face or
 /// several, or if an interface face's nodes are not all paired.
 FlowMesh makeFlowMesh(std::vector<FlowBlock> blocks, const std::vector<mesh::NodePair>& pairs);
 

@@ -45,10 +45,11 @@ std::array<int, 3> nodeIndex(const std::array<int, 3>& dims, long n) {
             static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]))};
 }
 
-// d/dq and d/dqOther of the SAT 2 (F*(q, qOther, n) - F_n(q)) (5x5 row-major each).
+// d/dq and d/dqOther of the SAT 2 (F*(q, qOther, n, nhat) - F_n(q)) (5x5 row-major each).
 void satJacobian(BoundaryFluxFn<cplx> flux, const double* q, const double* qOther, const double* n,
-                 const FreeStream& fs, double* dq, double* dOther) {
+                 const double* nhat, const FreeStream& fs, double* dq, double* dOther) {
     const cplx nc[3] = {n[0], n[1], n[2]};
+    const cplx nh[3] = {nhat[0], nhat[1], nhat[2]};
     for (int side = 0; side < (qOther ? 2 : 1); ++side) {
         double* out = side == 0 ? dq : dOther;
         for (int w = 0; w < kVars; ++w) {
@@ -58,7 +59,7 @@ void satJacobian(BoundaryFluxFn<cplx> flux, const double* q, const double* qOthe
                 b[v] = qOther ? qOther[v] : 0.0;
             }
             (side == 0 ? a : b)[w] += cplx(0.0, kStep);
-            flux(a, qOther ? b : nullptr, nc, fs, fstar);
+            flux(a, qOther ? b : nullptr, nc, nh, fs, fstar);
             normalFlux(a, nc, fs.gamma, fn);
             for (int v = 0; v < kVars; ++v) out[kBlock * v + w] = 2.0 * (fstar[v] - fn[v]).imag() / kStep;
         }
@@ -82,11 +83,11 @@ void addInterfaceBlocks(const FlowMesh& fm, const std::vector<double>& metrics, 
             const long na = offA + ip.nodes[p][0], nb = offB + ip.nodes[p][1];
             double n[3], dSelf[kBlockSize], dOther[kBlockSize];
             outwardNormal(&metrics[kMetricWidth * na], ip.faceA, n);
-            satJacobian(&interfaceFlux<cplx>, q + kVars * na, q + kVars * nb, n, fs, dSelf, dOther);
+            satJacobian(&interfaceFlux<cplx>, q + kVars * na, q + kVars * nb, n, n, fs, dSelf, dOther);
             addBlock(J, na, na, dSelf);
             addBlock(J, na, nb, dOther);
             outwardNormal(&metrics[kMetricWidth * nb], ip.faceB, n);
-            satJacobian(&interfaceFlux<cplx>, q + kVars * nb, q + kVars * na, n, fs, dSelf, dOther);
+            satJacobian(&interfaceFlux<cplx>, q + kVars * nb, q + kVars * na, n, n, fs, dSelf, dOther);
             addBlock(J, nb, nb, dSelf);
             addBlock(J, nb, na, dOther);
         }
@@ -218,6 +219,7 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
     J.setZero();
     const FreeStream& fs = o.freeStream;
     const double gamma = fs.gamma;
+    const std::vector<double> junctionNormals = wallJunctionNormals(fm, metrics.data());
     for (const FlowBlock& blk : fm.blocks) {
         const long N = blk.nodeCount();
         const BlockView<const double> qb{q + kVars * blk.offset, blk.dims, kVars};
@@ -287,9 +289,11 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
                 for (int f = 0; f < 6; ++f) {
                     const mesh::BoundaryKind kind = blk.faces[f].kind;
                     if (kind == mesh::BoundaryKind::Interface || !onFace(blk.dims, n, f)) continue;
-                    double nrm[3], dSelf[kBlockSize];
+                    double nrm[3], nhat[3], dSelf[kBlockSize];
                     outwardNormal(mb.at(n), f, nrm);
-                    satJacobian(boundaryFlux<cplx>(kind), qb.at(n), nullptr, nrm, fs, dSelf, nullptr);
+                    surfaceNormal(blk, f, faceNodeIndex(blk.dims, f, n), nrm, junctionNormals, nhat);
+                    satJacobian(boundaryFlux<cplx>(kind), qb.at(n), nullptr, nrm, nhat, fs, dSelf,
+                                nullptr);
                     addBlock(J, row, row, dSelf);
                 }
             }

@@ -38,19 +38,19 @@ void inviscidTerm(const BlockView<const T>& q, const BlockView<const T>& m, doub
     }
 }
 
-// (F*(q, qOther, n) - F_n(q)) / H_n added to rn; H_n = 1/2 at every face node.
+// (F*(q, qOther, n, nhat) - F_n(q)) / H_n added to rn; H_n = 1/2 at every face node.
 template <class T>
-void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const FreeStream& fs,
-            T* rn) {
+void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const T* nhat,
+            const FreeStream& fs, T* rn) {
     T fstar[kVars], fn[kVars];
-    flux(q, qOther, n, fs, fstar);
+    flux(q, qOther, n, nhat, fs, fstar);
     normalFlux(q, n, fs.gamma, fn);
     for (int v = 0; v < kVars; ++v) rn[v] += 2.0 * (fstar[v] - fn[v]);
 }
 
 template <class T>
 void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const BlockView<const T>& m,
-                  const FreeStream& fs, const BlockView<T>& r) {
+                  const FreeStream& fs, const std::vector<T>& junctionNormals, const BlockView<T>& r) {
     for (int f = 0; f < 6; ++f) {
         const mesh::BoundaryKind kind = blk.faces[f].kind;
         if (kind == mesh::BoundaryKind::Interface) continue;
@@ -60,9 +60,10 @@ void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const Block
 #pragma omp parallel for schedule(static)
         for (long a = 0; a < count; ++a) {
             const long node = nodes[a];
-            T n[3];
+            T n[3], nhat[3];
             outwardNormal(m.at(node), f, n);
-            addSat(flux, q.at(node), static_cast<const T*>(nullptr), n, fs, r.at(node));
+            surfaceNormal(blk, f, a, n, junctionNormals, nhat);
+            addSat(flux, q.at(node), static_cast<const T*>(nullptr), n, nhat, fs, r.at(node));
         }
     }
 }
@@ -79,14 +80,44 @@ void interfaceTerm(const FlowMesh& fm, const T* metrics, const T* q, const FreeS
             const long na = offA + ip.nodes[a][0], nb = offB + ip.nodes[a][1];
             T n[3];
             outwardNormal(metrics + kMetricWidth * na, ip.faceA, n);
-            addSat(flux, q + kVars * na, q + kVars * nb, n, fs, r + kVars * na);
+            addSat(flux, q + kVars * na, q + kVars * nb, n, n, fs, r + kVars * na);
             outwardNormal(metrics + kMetricWidth * nb, ip.faceB, n);
-            addSat(flux, q + kVars * nb, q + kVars * na, n, fs, r + kVars * nb);
+            addSat(flux, q + kVars * nb, q + kVars * na, n, n, fs, r + kVars * nb);
         }
     }
 }
 
 }  // namespace
+
+template <class T>
+std::vector<T> wallJunctionNormals(const FlowMesh& fm, const T* metrics) {
+    using std::real;
+    using std::sqrt;
+    const double cos45 = 0.70710678118654752;
+    std::vector<T> out(3 * fm.wallJunctions.size(), T(0.0));
+    for (std::size_t j = 0; j < fm.wallJunctions.size(); ++j) {
+        const auto& members = fm.wallJunctions[j].members;
+        T sum[3] = {T(0.0), T(0.0), T(0.0)};
+        for (const auto& m : members) {
+            T n[3];
+            outwardNormal(metrics + kMetricWidth * m[0], static_cast<int>(m[1]), n);
+            for (int c = 0; c < 3; ++c) sum[c] += n[c];
+        }
+        const T len = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        if (real(len) == 0.0) continue;
+        bool corner = false;
+        for (const auto& m : members) {
+            T n[3];
+            outwardNormal(metrics + kMetricWidth * m[0], static_cast<int>(m[1]), n);
+            const double dot = real(n[0] * sum[0] + n[1] * sum[1] + n[2] * sum[2]);
+            const double nl = std::sqrt(real(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
+            if (dot < cos45 * nl * real(len)) corner = true;
+        }
+        if (corner) continue;
+        for (int c = 0; c < 3; ++c) out[3 * j + c] = sum[c] / len;
+    }
+    return out;
+}
 
 template <class T>
 void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r) {
@@ -95,6 +126,8 @@ void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOp
     // Blocks in parallel (each writes only its own nodes); the per-plane loops inside then run
     // on one thread. One parallel region per residual instead of several per block: with
     // passive OpenMP waiting every region costs a wake-up of the team.
+    const std::vector<T> junctionNormals =
+        (o.terms & kBoundarySat) ? wallJunctionNormals(fm, metrics) : std::vector<T>();
     const long nb = static_cast<long>(fm.blocks.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (long b = 0; b < nb; ++b) {
@@ -107,7 +140,7 @@ void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOp
             addDissipation(qb, mb, o.dissipation, gamma, o.lumpedDissipation, o.freezeCoefficients,
                            rb);
         }
-        if (o.terms & kBoundarySat) boundaryTerm(blk, qb, mb, o.freeStream, rb);
+        if (o.terms & kBoundarySat) boundaryTerm(blk, qb, mb, o.freeStream, junctionNormals, rb);
     }
     if (o.terms & kInterfaceSat) interfaceTerm(fm, metrics, q, o.freeStream, r);
 }
@@ -121,6 +154,9 @@ std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs) {
     return q;
 }
 
+template std::vector<double> wallJunctionNormals<double>(const FlowMesh&, const double*);
+template std::vector<std::complex<double>> wallJunctionNormals<std::complex<double>>(
+    const FlowMesh&, const std::complex<double>*);
 template void residual<double>(const FlowMesh&, const double*, const double*,
                                const ResidualOptions&, double*);
 template void residual<std::complex<double>>(const FlowMesh&, const std::complex<double>*,

@@ -44,6 +44,34 @@ void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOp
 /// The free stream of `fs` at every node (5 * nodeCount).
 std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs);
 
+/// Unit normals of the wall junctions (FlowMesh::wallJunctions), 3 per junction: the direction
+/// of the sum of the members' outward metric vectors, second-order accurate on a smooth wall
+/// (each member's own vector comes from one-sided differences at its block's edge and is tilted
+/// by O(h); the two tilts cancel in the sum). Zeros for a geometric corner, where a member's
+/// vector is more than 45 degrees from the sum's direction (a sharp trailing edge): there each
+/// member keeps its own normal.
+template <class T>
+std::vector<T> wallJunctionNormals(const FlowMesh& fm, const T* metrics);
+
+/// The unit normal nhat of the boundary surface that face f's flux uses at the face node with
+/// position `index` in faceNodes order: the junction's normal for a wall junction node (unless
+/// zero), n / |n| otherwise. n: the node's outward metric vector.
+template <class T>
+inline void surfaceNormal(const FlowBlock& blk, int f, long index, const T* n,
+                          const std::vector<T>& junctionNormals, T* nhat) {
+    using std::sqrt;
+    if (blk.faces[f].kind == mesh::BoundaryKind::Wall && !blk.junction[f].empty()) {
+        const int j = blk.junction[f][index];
+        const T* jn = j >= 0 ? &junctionNormals[3 * static_cast<std::size_t>(j)] : nullptr;
+        if (jn && (jn[0] != T(0.0) || jn[1] != T(0.0) || jn[2] != T(0.0))) {
+            for (int c = 0; c < 3; ++c) nhat[c] = jn[c];
+            return;
+        }
+    }
+    const T len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int c = 0; c < 3; ++c) nhat[c] = n[c] / len;
+}
+
 /// Outward metric vector of face f at a node whose metrics are `m`: -m_d on a min face, +m_d on a
 /// max face (d the face's direction).
 template <class T>

@@ -109,17 +109,27 @@ TEST(Euler, BoundaryFluxesByNameAndFreeStreamConsistency) {
     const double n[3] = {0.3, -1.2, 0.7};
     double fn[5], f[5];
     normalFlux(qinf.data(), n, 1.4, fn);
-    boundaryFlux<double>("farfield")(qinf.data(), nullptr, n, fs, f);
+    boundaryFlux<double>("farfield")(qinf.data(), nullptr, n, n, fs, f);
     for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], fn[v], 1e-15);
-    boundaryFlux<double>("interface")(qinf.data(), qinf.data(), n, fs, f);
+    boundaryFlux<double>("interface")(qinf.data(), qinf.data(), n, n, fs, f);
     for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], fn[v], 1e-15);
     // Walls and the symmetry plane pass pressure only; a flow along the wall satisfies them.
-    const double nw[3] = {0.0, -2.0, 0.0};
+    const double nw[3] = {0.0, -2.0, 0.0}, nwhat[3] = {0.0, -1.0, 0.0};
     normalFlux(qinf.data(), nw, 1.4, fn);
     for (const char* name : {"wall", "symmetry"}) {
-        boundaryFlux<double>(name)(qinf.data(), nullptr, nw, fs, f);
+        boundaryFlux<double>(name)(qinf.data(), nullptr, nw, nwhat, fs, f);
         for (int v = 0; v < 5; ++v) EXPECT_EQ(f[v], fn[v]) << name;
     }
+    // At a wall junction the face vector n is tilted from the wall's normal nhat: a flow along
+    // the wall (u . nhat = 0) still has F* = F_n(q), mass and energy crossing the tilted face.
+    const double nhat[3] = {0.6, 0.0, 0.8}, ntilt[3] = {0.7, 0.1, 0.75};
+    const double rho = 1.1, u[3] = {0.8 * 0.4, 0.05, -0.6 * 0.4}, p = 0.7;
+    const double qt[5] = {rho, rho * u[0], rho * u[1], rho * u[2],
+                          p / 0.4 + 0.5 * rho * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])};
+    normalFlux(qt, ntilt, 1.4, fn);
+    slipWallFlux<double>(qt, nullptr, ntilt, nhat, fs, f);
+    for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], fn[v], 1e-15) << v;
+    EXPECT_GT(std::abs(fn[0]), 1e-3);
     EXPECT_EQ(boundaryFlux<double>(mesh::BoundaryKind::Wall), &slipWallFlux<double>);
     EXPECT_THROW(boundaryFlux<double>("inlet", "flow.boundary"), CaseError);
     try {

@@ -101,6 +101,62 @@ inline FlowCase wavyBox(int n, mesh::BoundaryKind yFaces, double amplitude = 0.0
     return c;
 }
 
+/// A free vortex between two concentric circular walls (radii 1 and 2 about the Y axis, in the
+/// X-Z plane): two blocks (theta in [0, pi] and [pi, 2 pi]; i around, j from the inner to the
+/// outer wall, k along Y with 2 layers and symmetry faces) joined at both cuts, so each wall has
+/// two junctions. `exact` gets the steady homentropic solution u_theta = 0.5 / r (Mach 0.51 on
+/// the inner wall), which is tangent to both walls.
+inline FlowCase vortexAnnulus(int around, int radial, std::vector<double>& exact) {
+    const double pi = 3.14159265358979323846, gamma = 1.4;
+    std::vector<FlowBlock> blocks(2);
+    for (int b = 0; b < 2; ++b) {
+        blocks[b].name = b == 0 ? "upper" : "lower";
+        blocks[b].dims = {around, radial, 2};
+        for (auto& f : blocks[b].faces) f.kind = mesh::BoundaryKind::Symmetry;
+        blocks[b].faces[2].kind = blocks[b].faces[3].kind = mesh::BoundaryKind::Wall;
+        blocks[b].faces[0] = {mesh::BoundaryKind::Interface, 1 - b, 1};
+        blocks[b].faces[1] = {mesh::BoundaryKind::Interface, 1 - b, 0};
+    }
+    auto local = [&](int i, int j, int k) { return i + static_cast<long>(around) * (j + static_cast<long>(radial) * k); };
+    std::vector<mesh::NodePair> pairs;
+    for (int k = 0; k < 2; ++k) {
+        for (int j = 0; j < radial; ++j) {
+            pairs.push_back({0, local(around - 1, j, k), 1, local(0, j, k)});
+            pairs.push_back({1, local(around - 1, j, k), 0, local(0, j, k)});
+        }
+    }
+    FlowCase c;
+    c.fm = makeFlowMesh(blocks, pairs);
+    c.x.resize(3 * static_cast<std::size_t>(c.fm.nodeCount));
+    exact.resize(5 * static_cast<std::size_t>(c.fm.nodeCount));
+    for (int b = 0; b < 2; ++b) {
+        for (int k = 0; k < 2; ++k) {
+            for (int j = 0; j < radial; ++j) {
+                for (int i = 0; i < around; ++i) {
+                    const long n = c.fm.blocks[b].offset + local(i, j, k);
+                    const double r = 1.0 + static_cast<double>(j) / (radial - 1);
+                    const double th = pi * (b + static_cast<double>(i) / (around - 1));
+                    c.x[3 * n] = r * std::cos(th);
+                    c.x[3 * n + 1] = k;
+                    c.x[3 * n + 2] = r * std::sin(th);
+                    const double ut = 0.5 / r;
+                    const double rho = std::pow(1.0 - 0.5 * (gamma - 1.0) * ut * ut, 1.0 / (gamma - 1.0));
+                    const double p = std::pow(rho, gamma) / gamma;
+                    const double u = -ut * std::sin(th), w = ut * std::cos(th);
+                    double* q = &exact[5 * n];
+                    q[0] = rho;
+                    q[1] = rho * u;
+                    q[2] = 0.0;
+                    q[3] = rho * w;
+                    q[4] = p / (gamma - 1.0) + 0.5 * rho * (u * u + w * w);
+                }
+            }
+        }
+    }
+    c.metrics = computeMetrics(c.fm, c.x);
+    return c;
+}
+
 /// A smooth, clearly non-uniform flow state (density, velocity and pressure vary in space).
 inline std::vector<double> smoothState(const FlowCase& c, double mach, double amplitude = 0.05) {
     std::vector<double> q(5 * static_cast<std::size_t>(c.fm.nodeCount));

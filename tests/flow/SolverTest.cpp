@@ -79,7 +79,11 @@ TEST(FlowSolver, HalfSphereAtMachHalfConvergesTenOrdersWithoutLift) {
     // Subsonic flow accelerates around the sphere (potential flow: 1.5 U at the equator).
     EXPECT_GT(mmax, 0.6);
     EXPECT_LT(mmax, 1.0);
-    EXPECT_LT(smax, 0.05);
+    // The largest entropy error sits at the rear stagnation point, a corner of wall, symmetry
+    // plane and block interface: 0.050 here, 0.0082 on the 75k-node grid of the same level
+    // (docs/validation.md). It was 0.045 before the wall junctions got a shared normal, which
+    // removed an O(1) truncation error at every other wall junction (ResidualTest).
+    EXPECT_LT(smax, 0.06);
 }
 
 TEST(FlowSolver, ReportsANonPhysicalStartInsteadOfIterating) {

@@ -5,15 +5,16 @@
 namespace aero::flow {
 
 template <class T>
-void farfieldFlux(const T* q, const T*, const T* n, const FreeStream& fs, T* flux) {
+void farfieldFlux(const T* q, const T*, const T* n, const T*, const FreeStream& fs, T* flux) {
     const auto s = fs.state();
     const T qinf[kVars] = {s[0], s[1], s[2], s[3], s[4]};
     upwindFlux(q, qinf, n, fs.gamma, flux);
 }
 
-template void farfieldFlux<double>(const double*, const double*, const double*, const FreeStream&,
-                                   double*);
+template void farfieldFlux<double>(const double*, const double*, const double*, const double*,
+                                   const FreeStream&, double*);
 template void farfieldFlux<std::complex<double>>(const std::complex<double>*,
+                                                 const std::complex<double>*,
                                                  const std::complex<double>*,
                                                  const std::complex<double>*, const FreeStream&,
                                                  std::complex<double>*);

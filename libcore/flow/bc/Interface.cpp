@@ -5,13 +5,15 @@
 namespace aero::flow {
 
 template <class T>
-void interfaceFlux(const T* q, const T* qOther, const T* n, const FreeStream& fs, T* flux) {
+void interfaceFlux(const T* q, const T* qOther, const T* n, const T*, const FreeStream& fs,
+                   T* flux) {
     upwindFlux(q, qOther, n, fs.gamma, flux);
 }
 
-template void interfaceFlux<double>(const double*, const double*, const double*, const FreeStream&,
-                                    double*);
+template void interfaceFlux<double>(const double*, const double*, const double*, const double*,
+                                    const FreeStream&, double*);
 template void interfaceFlux<std::complex<double>>(const std::complex<double>*,
+                                                  const std::complex<double>*,
                                                   const std::complex<double>*,
                                                   const std::complex<double>*, const FreeStream&,
                                                   std::complex<double>*);
