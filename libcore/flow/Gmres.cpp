@@ -62,9 +62,10 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
 #pragma omp parallel for schedule(static)
                 for (long l = 0; l < n; ++l) w[l] -= hij * vi[l];
             }
-            h(j + 1, j) = std::sqrt(dot(n, w.data(), w.data()));
-            if (h(j + 1, j) > 0) {
-                const double inv = 1.0 / h(j + 1, j);
+            const double hnext = std::sqrt(dot(n, w.data(), w.data()));
+            h(j + 1, j) = hnext;
+            if (hnext > 0) {
+                const double inv = 1.0 / hnext;
 #pragma omp parallel for schedule(static)
                 for (long l = 0; l < n; ++l) V[j + 1][l] = w[l] * inv;
             }
@@ -82,7 +83,9 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
             g[j] = cs[j] * g[j];
             rep.relativeResidual = std::abs(g[j + 1]) / bnorm;
             if (!std::isfinite(rep.relativeResidual)) return rep;
-            if (rep.relativeResidual <= o.tolerance || h(j + 1, j) == 0) {
+            // Converged, or a happy breakdown (the Krylov space is invariant: the solution is
+            // in it). The Arnoldi value, not h(j + 1, j), which the rotation has just zeroed.
+            if (rep.relativeResidual <= o.tolerance || hnext == 0) {
                 ++j;
                 break;
             }
@@ -110,6 +113,13 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
         if (rep.relativeResidual <= o.tolerance) {
             rep.converged = true;
             return rep;
+        }
+        if (o.hopeless > 0 && rep.iterations < o.maxIterations) {
+            const double rate = std::log(std::max(rep.relativeResidual, 1e-300)) / rep.iterations;
+            if (std::exp(rate * o.maxIterations) > o.hopeless) {
+                rep.gaveUp = true;
+                return rep;
+            }
         }
     }
     return rep;

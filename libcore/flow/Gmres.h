@@ -12,12 +12,17 @@ struct GmresOptions {
     int restart = 40;          // Krylov vectors per cycle
     int maxIterations = 200;   // matrix-vector products in all
     double tolerance = 1e-2;   // on ||b - A x|| / ||b||
+    double hopeless = 0;       // > 0: give up after a restart cycle when the residual's fall so
+                               // far, extrapolated at the same rate per iteration to
+                               // maxIterations, would not bring it below this (a caller that
+                               // rejects such results saves the remaining cycles)
 };
 
 struct GmresReport {
     int iterations = 0;
     double relativeResidual = 1.0;  // ||b - A x|| / ||b|| (the Arnoldi estimate)
     bool converged = false;
+    bool gaveUp = false;            // stopped early: `hopeless` could not be reached
 };
 
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner

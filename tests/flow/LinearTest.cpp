@@ -167,4 +167,31 @@ TEST(Gmres, PreconditionedByIluSolvesAGridSystem) {
     EXPECT_LE(r.relativeResidual, 1e-12);
     EXPECT_LT(r.iterations, 40);
     EXPECT_LT(maxError(A, x, b), 1e-10);
+    // Giving up on hopeless systems does not touch one that converges.
+    std::vector<double> x2(b.size(), 0.0);
+    const GmresReport r2 = gmres(kBlock * A.rows, Am, M, b.data(), x2.data(), {30, 200, 1e-12, 0.5});
+    EXPECT_FALSE(r2.gaveUp);
+    EXPECT_EQ(r2.iterations, r.iterations);
+    EXPECT_EQ(x2, x);
+}
+
+// A cyclic shift makes no progress in fewer than n iterations: with `hopeless` GMRES stops after
+// its first restart cycle instead of spending the whole budget.
+TEST(Gmres, GivesUpWhenItCannotReachTheHopelessThreshold) {
+    const long n = 200;
+    const LinearMap shift = [&](const double* in, double* out) {
+        for (long i = 0; i < n; ++i) out[(i + 1) % n] = in[i];
+    };
+    std::vector<double> b(n, 0.0);
+    b[0] = 1.0;
+    std::vector<double> x(n, 0.0);
+    const GmresReport full = gmres(n, shift, {}, b.data(), x.data(), {40, 120, 1e-2});
+    EXPECT_EQ(full.iterations, 120);
+    EXPECT_FALSE(full.gaveUp);
+    std::fill(x.begin(), x.end(), 0.0);
+    const GmresReport early = gmres(n, shift, {}, b.data(), x.data(), {40, 120, 1e-2, 0.5});
+    EXPECT_EQ(early.iterations, 40);
+    EXPECT_TRUE(early.gaveUp);
+    EXPECT_FALSE(early.converged);
+    EXPECT_NEAR(early.relativeResidual, 1.0, 1e-12);
 }
