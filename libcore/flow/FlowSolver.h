@@ -45,14 +45,13 @@ struct NewtonOptions {
                                        // (DissipationOptions::lumping) is doubled up to this
     double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
                                        // than this factor is rejected (CFL cut) instead of taken
-    int preconditionerParts = 1;       // > 1: the ILU factors and solves this many groups of mesh
+    int preconditionerParts = 2;       // > 1: the ILU factors and solves this many groups of mesh
                                        // blocks in parallel, their coupling kept through a
                                        // separator ordered last (BlockIlu.h); fixed rather than
                                        // the thread count, so a run's iterations are the same on
-                                       // any machine. 1 (natural order, sequential) is the
-                                       // default: on the 75k half-sphere 2 parts made the ILU
-                                       // weaker (1,682 GMRES instead of 877, lumping raised to 12,
-                                       // 298 s instead of 219 s; docs/performance.md)
+                                       // any machine. 2: on 2 cores the 75k half-sphere takes 50 s
+                                       // instead of 72 s (366 GMRES instead of 343); 1 is the
+                                       // natural order, sequential (docs/performance.md)
 };
 
 enum class FlowStatus { Converged, MaxIterations, Stalled, Diverged, NotANumber, Cancelled };
