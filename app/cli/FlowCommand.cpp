@@ -150,9 +150,9 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                             rep.status == flow::FlowStatus::NotANumber;
         if (failed && c.mesh.extrusion.gridWallSpacing < 0.05) {
             std::snprintf(buf, sizeof buf,
-                          "hint: grids with grid_wall_spacing %g are known not to converge yet (the strongly stretched "
-                          "radial cells spoil the symmetry/interface edges and the rear stagnation point; "
-                          "docs/validation.md, known problem 3); \"mesh\": {\"grid_wall_spacing\": 0.05} converges",
+                          "hint: grids with grid_wall_spacing %g are known not to converge yet (the thin wall "
+                          "cells at the rear stagnation point; docs/validation.md, known problem 3); "
+                          "\"mesh\": {\"grid_wall_spacing\": 0.05} converges",
                           c.mesh.extrusion.gridWallSpacing);
             say(buf);
         }
