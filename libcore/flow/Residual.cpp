@@ -1,5 +1,6 @@
 #include "flow/Residual.h"
 
+#include <array>
 #include <complex>
 
 #include "flow/BlockView.h"
@@ -95,23 +96,23 @@ std::vector<T> wallJunctionNormals(const FlowMesh& fm, const T* metrics) {
     using std::sqrt;
     const double cos45 = 0.70710678118654752;
     std::vector<T> out(3 * fm.wallJunctions.size(), T(0.0));
+    std::vector<std::array<T, 3>> normals;
     for (std::size_t j = 0; j < fm.wallJunctions.size(); ++j) {
         const auto& members = fm.wallJunctions[j].members;
+        normals.resize(members.size());
         T sum[3] = {T(0.0), T(0.0), T(0.0)};
-        for (const auto& m : members) {
-            T n[3];
-            outwardNormal(metrics + kMetricWidth * m[0], static_cast<int>(m[1]), n);
-            for (int c = 0; c < 3; ++c) sum[c] += n[c];
+        for (std::size_t k = 0; k < members.size(); ++k) {
+            outwardNormal(metrics + kMetricWidth * members[k][0], static_cast<int>(members[k][1]),
+                          normals[k].data());
+            for (int c = 0; c < 3; ++c) sum[c] += normals[k][c];
         }
         const T len = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
         if (real(len) == 0.0) continue;
         bool corner = false;
-        for (const auto& m : members) {
-            T n[3];
-            outwardNormal(metrics + kMetricWidth * m[0], static_cast<int>(m[1]), n);
+        for (const auto& n : normals) {
             const double dot = real(n[0] * sum[0] + n[1] * sum[1] + n[2] * sum[2]);
             const double nl = std::sqrt(real(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
-            if (dot < cos45 * nl * real(len)) corner = true;
+            corner = corner || dot < cos45 * nl * real(len);
         }
         if (corner) continue;
         for (int c = 0; c < 3; ++c) out[3 * j + c] = sum[c] / len;

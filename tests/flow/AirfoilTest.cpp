@@ -11,6 +11,7 @@
 #include "common/Error.h"
 #include "flow/FlowSolver.h"
 #include "flow/Outputs.h"
+#include "flow/Residual.h"
 #include "mesh/AirfoilGrid.h"
 #include "mesh/Quality.h"
 
@@ -176,6 +177,31 @@ TEST(AirfoilGrid, CamberedProfilesGiveValidGrids) {
         for (const auto& b : g.blocks) q.push_back(mesh::cellQuality(b));
         EXPECT_NO_THROW(mesh::requirePositiveJacobians(g.blocks, q)) << naca;
     }
+}
+
+// The two blocks meet on the wall at the leading edge (a smooth wall: one shared normal, along
+// +X into the body by symmetry) and at the sharp trailing edge (a corner: each block keeps its
+// own normal).
+TEST(Airfoil, WallJunctionsAreTheSmoothLeadingEdgeAndTheTrailingEdgeCorner) {
+    const testing::FlowCase c = airfoilCase(smallGrid());
+    ASSERT_EQ(c.fm.wallJunctions.size(), 4u);  // 2 edges x 2 span layers
+    const std::vector<double> jn = wallJunctionNormals(c.fm, c.metrics.data());
+    int leading = 0, trailing = 0;
+    for (std::size_t j = 0; j < c.fm.wallJunctions.size(); ++j) {
+        ASSERT_EQ(c.fm.wallJunctions[j].members.size(), 2u);
+        const double* x = &c.x[3 * c.fm.wallJunctions[j].members[0][0]];
+        if (x[0] < 0.5) {
+            ++leading;
+            EXPECT_NEAR(jn[3 * j], 1.0, 1e-12);
+            EXPECT_NEAR(jn[3 * j + 1], 0.0, 1e-12);
+            EXPECT_NEAR(jn[3 * j + 2], 0.0, 1e-12);
+        } else {
+            ++trailing;
+            for (int k = 0; k < 3; ++k) EXPECT_EQ(jn[3 * j + k], 0.0);
+        }
+    }
+    EXPECT_EQ(leading, 2);
+    EXPECT_EQ(trailing, 2);
 }
 
 TEST(Airfoil, FreeStreamIsPreserved) {
