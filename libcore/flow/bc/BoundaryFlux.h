@@ -15,7 +15,8 @@ namespace aero::flow {
 /// F* (5 values) at one boundary node. q: this side's state; qOther: the coincident node's state
 /// on the other side of an interface (nullptr for the other kinds); n: the OUTWARD metric
 /// vector (grad(xi_d)/J, signed to point out of the block); nhat: the boundary surface's unit
-/// normal there (n / |n|, except at wall junctions: surfaceNormal in Residual.h); fs: free stream.
+/// normal there (n / |n|, except at wall junctions: surfaceNormal in Residual.h; only the wall
+/// and symmetry fluxes use it, and interface callers pass n itself); fs: free stream.
 template <class T>
 using BoundaryFluxFn = void (*)(const T* q, const T* qOther, const T* n, const T* nhat,
                                 const FreeStream& fs, T* flux);
