@@ -131,9 +131,9 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                 say(buf);
                 return;
             }
-            std::snprintf(buf, sizeof buf, "iter %4d  residual %.3e  (rel %.2e)  CFL %.2e  GMRES %3d (%.1e)  step %.2f  %7.1f s",
+            std::snprintf(buf, sizeof buf, "iter %4d  residual %.3e  (rel %.2e)  CFL %.2e  GMRES %3d (%.1e)%s  step %.2f  %7.1f s",
                           first + it.iteration, it.residual, it.relativeResidual, it.cfl, it.linearIterations,
-                          it.linearResidual, it.stepScale, it.seconds);
+                          it.linearResidual, it.exact ? " exact" : "", it.stepScale, it.seconds);
             say(buf);
         }, &gCancel);
         std::signal(SIGINT, oldInt);

@@ -156,6 +156,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     rep.cflBase = cflBase;
     rep.lumping = approx.dissipation.lumping;
     int bestIteration = 0, rejections = 0;
+    double cflHigh = 0;          // the largest CFL of an accepted step so far
+    bool newton = false;         // exact steps because the approximate ones crawled (sticky until
+                                 // an exact step fails)
+    int windowStart = 0;         // history index from which the approximate steps are judged
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
@@ -168,7 +172,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             P.addDiagonal(d.data());
         };
         assemble();
-        exact = Rn <= opt.exactBelow * R0;
+        exact = newton || Rn <= opt.exactBelow * R0;
         FlowIteration rec;
         std::string why;             // why the step was rejected
         bool linearFailed = false;   // ... because GMRES could not solve the system
@@ -184,7 +188,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             std::fill(dq.begin(), dq.end(), 0.0);
             const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go);
             rep.linearIterations += g.iterations;
-            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, 0.0, {}};
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, exact, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {
                 linearFailed = true;
                 why = "GMRES reduced the linear residual only to " + sci(g.relativeResidual) + " in " +
@@ -213,13 +217,13 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             q.swap(qNew);
             r.swap(rNew);
             Rn = Rnew;
-            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, elapsed(), {}};
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha, exact, elapsed(), {}};
             return true;
         };
         // A rejected attempt is reported too: the retries (more lumping, a smaller CFL) can take
         // long on a big grid, and a silent minute looks like a hang.
         auto attempt = [&]() -> bool {
-            rec = {it, Rn, Rn / R0, cfl, 0, 0.0, 0.0, 0.0, {}};
+            rec = {it, Rn, Rn / R0, cfl, 0, 0.0, 0.0, exact, 0.0, {}};
             if (step()) return true;
             rec.seconds = elapsed();
             rec.rejected = why;
@@ -229,8 +233,11 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         bool accepted = attempt();
         if (!accepted && exact) {
             // The exact system was too hard for the preconditioner at this CFL: take an
-            // approximate-Newton step instead before cutting the CFL.
+            // approximate-Newton step instead before cutting the CFL; a crawl of approximate
+            // steps has to show itself again before the next exact one.
             exact = false;
+            newton = false;
+            windowStart = static_cast<int>(rep.history.size()) + 1;
             linearFailed = false;
             accepted = attempt();
         }
@@ -270,12 +277,30 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         if (Rn > opt.divergenceFactor * R0) {
             return finish(FlowStatus::Diverged, "diverged: residual grew to " + sci(Rn / R0) + " times the initial one");
         }
-        if (Rn < 0.99 * best) {
-            best = Rn;
+        if (Rn < 0.99 * best || cfl > 1.01 * cflHigh) {
+            // Progress: a new best residual, or pseudo-time still advancing with a growing CFL
+            // (the transient of a fine grid can raise ||R|| for 40 iterations of full steps).
+            best = std::min(best, Rn);
             bestIteration = it;
         } else if (it - bestIteration >= opt.stallIterations) {
             return finish(FlowStatus::Stalled, "stalled: no progress in " + std::to_string(opt.stallIterations) +
                                                    " iterations at relative residual " + sci(Rn / R0));
+        }
+        cflHigh = std::max(cflHigh, cfl);
+        if (!newton && !exact && cfl >= opt.exactCfl && opt.slowWindow > 0) {
+            // Hand a crawling approximate-Newton iteration to Newton: the last slowWindow steps
+            // all full, at CFL >= exactCfl, and together reducing ||R|| by less than
+            // slowContraction per step.
+            const int h = static_cast<int>(rep.history.size());
+            const int first = h - 1 - opt.slowWindow;
+            bool full = first >= windowStart;
+            for (int i = std::max(first + 1, 0); full && i < h; ++i) {
+                full = rep.history[i].stepScale == 1.0 && !rep.history[i].exact && rep.history[i].cfl >= opt.exactCfl;
+            }
+            if (full) {
+                const double rate = std::pow(Rn / rep.history[first].residual, 1.0 / opt.slowWindow);
+                newton = rate > opt.slowContraction;
+            }
         }
     }
     return finish(FlowStatus::MaxIterations, "not converged in " + std::to_string(opt.maxIterations) +

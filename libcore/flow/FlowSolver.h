@@ -31,7 +31,10 @@ struct NewtonOptions {
     int gmresMaxIterations = 120;      // per nonlinear iteration
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
-    int stallIterations = 25;          // Stalled when the best ||R|| has not improved for this many
+    int stallIterations = 25;          // Stalled when for this many iterations neither the best
+                                       // ||R|| has improved nor the CFL reached a new high (the
+                                       // start-up transient of a fine grid raises ||R|| for 40+
+                                       // iterations while the full steps keep growing the CFL)
     int maxRejections = 8;             // steps rejected in a row (CFL cut by 10 each) before giving up
     int iluFill = 1;                   // level of fill of the block ILU preconditioner (ILU(2)
                                        // halves GMRES iterations but doubles the factor cost)
@@ -39,6 +42,11 @@ struct NewtonOptions {
                                        // exact Jacobian (inexact Newton); above it, the
                                        // approximate Jacobian itself (approximate Newton start-up);
                                        // an exact step GMRES cannot solve falls back to that
+    double exactCfl = 1e6;             // ... and from this CFL on, when the approximate steps
+    double slowContraction = 0.8;      // reduce ||R|| by less than this factor per iteration over
+    int slowWindow = 5;                // this many full steps in a row: a defect correction with
+                                       // the approximate Jacobian that crawls (0.98 per iteration
+                                       // on the 307k half-sphere) is handed to Newton
     double referenceResidual = 0;      // ||R0|| of the run this one continues (restart): tolerances,
                                        // exactBelow and the CFL law refer to it; 0: this run's own
     double maxLumping = 16;            // when GMRES fails on the lumped system, its lumping factor
@@ -65,6 +73,7 @@ struct FlowIteration {
     int linearIterations = 0;
     double linearResidual = 0;    // GMRES relative residual reached
     double stepScale = 1;         // fraction of the Newton step taken
+    bool exact = false;           // the step solved with the exact Jacobian (Newton)
     double seconds = 0;           // since the start
     std::string rejected;         // non-empty: this attempt was rejected, and why (the iteration
                                   // is tried again with a smaller CFL or more lumping; not in

@@ -86,6 +86,63 @@ TEST(FlowSolver, HalfSphereAtMachHalfConvergesTenOrdersWithoutLift) {
     EXPECT_LT(smax, 0.06);
 }
 
+TEST(FlowSolver, HandsACrawlingApproximatePhaseToNewton) {
+    // Exact steps only through the crawl test (exactBelow 0): the disturbed box first runs on
+    // approximate-Jacobian steps only, then with a contraction threshold above their observed
+    // rate, which must hand the iteration to Newton for good (no exact step fails here).
+    const auto box = testing::wavyBox(8, mesh::BoundaryKind::Wall);
+    ResidualOptions o;
+    o.freeStream.mach = 0.5;
+    NewtonOptions n;
+    n.exactBelow = 0;
+    n.exactCfl = 10;
+    n.slowWindow = 0;  // no crawl test
+    std::vector<double> q = testing::smoothState(box, 0.5, 0.2);
+    const FlowReport plain = solve(box, o, q, n);
+    ASSERT_TRUE(plain.converged()) << plain.message;
+    for (const FlowIteration& it : plain.history) EXPECT_FALSE(it.exact) << "iteration " << it.iteration;
+    // The approximate phase's contraction per step once the CFL is past exactCfl.
+    double slowest = 0;
+    for (std::size_t i = 1; i < plain.history.size(); ++i) {
+        if (plain.history[i].cfl >= n.exactCfl) {
+            slowest = std::max(slowest, plain.history[i].residual / plain.history[i - 1].residual);
+        }
+    }
+    std::printf("approximate steps only: %d iterations, slowest contraction %.3f\n", plain.iterations, slowest);
+    ASSERT_GT(slowest, 0.05);
+
+    n.slowWindow = 3;
+    n.slowContraction = 0.5 * slowest;
+    q = testing::smoothState(box, 0.5, 0.2);
+    const FlowReport newton = solve(box, o, q, n);
+    ASSERT_TRUE(newton.converged()) << newton.message;
+    const auto& h = newton.history;
+    const auto first = std::find_if(h.begin(), h.end(), [](const FlowIteration& it) { return it.exact; });
+    ASSERT_NE(first, h.end()) << "no exact step";
+    // Not before the window of full approximate steps at CFL >= exactCfl, and for good after.
+    const long before = first - h.begin();
+    EXPECT_GE(before, n.slowWindow + 1);
+    for (auto it = first; it != h.end(); ++it) EXPECT_TRUE(it->exact) << "iteration " << it->iteration;
+    std::printf("with the crawl test: %d iterations, the first exact one %d\n", newton.iterations, first->iteration);
+    EXPECT_LE(newton.iterations, plain.iterations);
+}
+
+TEST(FlowSolver, ReportsAStallWhenNeitherTheResidualNorTheCflMoves) {
+    // Steps cut to a millionth of a relative change: the CFL base never grows and the residual
+    // hardly moves, so the solver must stop after stallIterations and say so.
+    const auto box = testing::wavyBox(5, mesh::BoundaryKind::Wall);
+    ResidualOptions o;
+    std::vector<double> q = testing::smoothState(box, 0.5, 0.2);
+    NewtonOptions n;
+    n.maxRelativeChange = 1e-6;
+    n.stallIterations = 6;
+    const FlowReport rep = solve(box, o, q, n);
+    EXPECT_EQ(rep.status, FlowStatus::Stalled) << rep.message;
+    EXPECT_EQ(rep.iterations, n.stallIterations + 1);  // the first step sets the CFL high
+    EXPECT_NE(rep.message.find("no progress in 6 iterations"), std::string::npos) << rep.message;
+    for (const FlowIteration& it : rep.history) EXPECT_LT(it.stepScale, 1.0);
+}
+
 TEST(FlowSolver, ReportsANonPhysicalStartInsteadOfIterating) {
     const auto box = testing::wavyBox(5, mesh::BoundaryKind::Wall);
     ResidualOptions o;
