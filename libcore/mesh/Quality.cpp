@@ -305,4 +305,45 @@ void requirePositiveJacobians(const std::vector<StructuredGrid>& blocks,
                         std::to_string(total) + " cells are non-positive");
 }
 
+SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks) {
+    SpacingJump out;
+    auto edge = [](const double* a, const double* b) {
+        const double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        return std::sqrt(dot(d, d));
+    };
+    for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
+        const StructuredGrid& g = blocks[b];
+        if (static_cast<long>(g.xyz.size()) != 3 * g.nodeCount()) {
+            throw Error("largestSpacingJump: " + blockLabel(blocks, b) + " has " + std::to_string(g.xyz.size()) +
+                        " coordinates for " + std::to_string(g.nodeCount()) + " nodes");
+        }
+        for (int k = 0; k < g.dims[2]; ++k) {
+            for (int j = 0; j < g.dims[1]; ++j) {
+                for (int i = 0; i < g.dims[0]; ++i) {
+                    const std::array<int, 3> n{i, j, k};
+                    for (int d = 0; d < 3; ++d) {
+                        if (n[d] == 0 || n[d] == g.dims[d] - 1) continue;
+                        std::array<int, 3> lo = n, hi = n;
+                        --lo[d];
+                        ++hi[d];
+                        const double* x = g.at(i, j, k);
+                        const double a = edge(g.at(lo[0], lo[1], lo[2]), x);
+                        const double c = edge(x, g.at(hi[0], hi[1], hi[2]));
+                        if (a == 0 && c == 0) continue;
+                        const double ratio = std::max(a, c) / std::min(a, c);  // +inf if one is 0
+                        if (!(ratio > out.ratio)) continue;                     // NaN never wins
+                        out.ratio = ratio;
+                        out.block = b;
+                        out.blockName = g.name;
+                        out.direction = d;
+                        out.node = n;
+                        out.x = {x[0], x[1], x[2]};
+                    }
+                }
+            }
+        }
+    }
+    return out;
+}
+
 }  // namespace aero::mesh

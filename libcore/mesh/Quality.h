@@ -91,4 +91,21 @@ QualitySummary summarize(const std::vector<StructuredGrid>& blocks,
 void requirePositiveJacobians(const std::vector<StructuredGrid>& blocks,
                               const std::vector<CellQuality>& q);
 
+/// The largest jump of the spacing along a grid line, and where: over every block, direction d
+/// and node n with neighbours on both sides along d, the ratio of the longer to the shorter of
+/// the two edges a = |x(n) - x(n - e_d)| and b = |x(n + e_d) - x(n)| (+inf when exactly one is
+/// zero; two zero edges, a collapsed line, are skipped). A second-order central difference of a
+/// smooth field loses its accuracy across such a node: its leading error is (ratio - 1) h f''/2
+/// where the uniform grid has none (the coarse half-sphere level with wall spacing 1e-3 has a
+/// last radial cell 18.5 times its neighbour, and its flow stalls there).
+struct SpacingJump {
+    double ratio = 1;                   // >= 1; 1 when no block has a node inside a grid line
+    int block = -1;                     // index into the blocks
+    std::string blockName;
+    int direction = 0;                  // 0 i, 1 j, 2 k
+    std::array<int, 3> node{0, 0, 0};   // the node between the two edges
+    std::array<double, 3> x{0, 0, 0};   // its coordinates
+};
+SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks);
+
 }  // namespace aero::mesh

@@ -254,6 +254,39 @@ TEST(Quality, BadInputIsRejected) {
     EXPECT_THROW(requirePositiveJacobians({ok}, {truncated}), Error);
 }
 
+TEST(Quality, LargestSpacingJumpIsFoundWithItsNode) {
+    // A uniform block has no jump; a second block grows its k spacing geometrically by 1.5 up to
+    // k = 4 and then jumps: z = 0, 1, 2.5, 4.75, 8.125, then + 40.5 (12 x 3.375).
+    EXPECT_EQ(largestSpacingJump({uniformGrid("u", {4, 3, 5}, 0.5)}).ratio, 1.0);
+    const double z[6] = {0, 1, 2.5, 4.75, 8.125, 48.625};
+    const StructuredGrid graded = makeGrid("graded", {3, 2, 6}, [&](int i, int j, int k) {
+        return std::array<double, 3>{0.1 * i, 0.1 * j, z[k]};
+    });
+    const SpacingJump s = largestSpacingJump({uniformGrid("u", {3, 3, 3}, 1.0), graded});
+    EXPECT_NEAR(s.ratio, 12.0, 1e-12);
+    EXPECT_EQ(s.block, 1);
+    EXPECT_EQ(s.blockName, "graded");
+    EXPECT_EQ(s.direction, 2);
+    EXPECT_EQ(s.node[2], 4);
+    EXPECT_DOUBLE_EQ(s.x[2], 8.125);
+    // Without the last node the largest jump is the geometric ratio.
+    const StructuredGrid smooth = makeGrid("smooth", {2, 2, 5}, [&](int i, int j, int k) {
+        return std::array<double, 3>{0.1 * i, 0.1 * j, z[k]};
+    });
+    EXPECT_NEAR(largestSpacingJump({smooth}).ratio, 1.5, 1e-12);
+    // A collapsed line (all nodes on the axis) is skipped; one zero edge next to a finite one is
+    // an infinite jump.
+    StructuredGrid axis = makeGrid("axis", {2, 2, 3}, [&](int i, int j, int k) {
+        return std::array<double, 3>{0.1 * i, 0.1 * j, i + j > 0 ? 1.0 * k : 0.0};
+    });
+    EXPECT_EQ(largestSpacingJump({axis}).ratio, 1.0);
+    axis.at(1, 0, 1)[2] = 0.0;  // node k = 1 on top of k = 0 on the line (1, 0, .)
+    EXPECT_TRUE(std::isinf(largestSpacingJump({axis}).ratio));
+    StructuredGrid shortGrid = uniformGrid("short", {3, 3, 3}, 1.0);
+    shortGrid.xyz.pop_back();
+    EXPECT_THROW(largestSpacingJump({shortGrid}), Error);
+}
+
 // Timing on the paper's grid size (900,000 nodes). Run with --gtest_also_run_disabled_tests.
 TEST(Quality, DISABLED_Timing900kNodes) {
     std::vector<StructuredGrid> blocks{makeGrid("big", {100, 100, 90}, [](int i, int j, int k) {
