@@ -66,6 +66,9 @@ std::string defaultRestartPath(const std::string& casePath) {
 // spacing 1e-3 (18.5) stalls.
 constexpr double kSpacingJumpWarning = 8.0;
 
+// A coordinate for a message: round-off around zero (a node on a symmetry plane) printed as 0.
+double tidy(double x) { return std::abs(x) < 1e-12 ? 0.0 : x; }
+
 }  // namespace
 
 int runFlow(const std::string& casePath, const std::string& restartArg, bool json) {
@@ -90,9 +93,9 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             std::snprintf(w, sizeof w,
                           "warning: the grid spacing jumps by a factor %.1f along %c at block %d '%s' node (%d, %d, %d) "
                           "(x %.3g, %.3g, %.3g); central differences are poor there and the flow may stall "
-                          "(a finer mesh.refine, or grid_wall_spacing 0.05 on the coarse level, avoids it)",
+                          "(a finer level, a higher mesh.refine or a larger grid_wall_spacing reduces it)",
                           jump.ratio, "ijk"[jump.direction], jump.block, jump.blockName.c_str(), jump.node[0], jump.node[1],
-                          jump.node[2], jump.x[0], jump.x[1], jump.x[2]);
+                          jump.node[2], tidy(jump.x[0]), tidy(jump.x[1]), tidy(jump.x[2]));
             say(w);
         }
 
