@@ -4,9 +4,12 @@
 //   (V/dt + dR/dq) dq = -R(q),   V/dt = sum_d (|m_d . u| + c |m_d|) / CFL  (local time steps),
 //   CFL = base max(1, (R0 / R)^beta) (capped), the base growing geometrically with every full
 // step and cut after a rejected one, so the CFL grows through the start-up transient (where the
-// residual often rises) and with the residual's fall; the last iterations are Newton's. The linear systems are solved inexactly by right-preconditioned GMRES with exact
-// Jacobian-vector products (complex step, Jacobian.h) and a block ILU(0) of the approximate
-// Jacobian (lumped first-order dissipation, frozen coefficients) plus V/dt.
+// residual often rises) and with the residual's fall; the last iterations are Newton's. The
+// linear systems are solved inexactly by right-preconditioned GMRES with a block ILU(iluFill) of
+// the approximate Jacobian (lumped first-order dissipation, frozen coefficients) plus V/dt; the
+// system matrix is that approximate Jacobian itself in the start-up (cheap products) and the
+// exact one (Jacobian-vector products by complex step, Jacobian.h) once the residual is below
+// exactBelow or the approximate steps crawl (NewtonOptions).
 // The solver never returns a silent wrong answer: the report says why it stopped.
 #include <atomic>
 #include <functional>
