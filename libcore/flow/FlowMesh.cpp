@@ -10,10 +10,7 @@
 namespace aero::flow {
 
 bool onFace(const std::array<int, 3>& dims, long n, int f) {
-    const int i = static_cast<int>(n % dims[0]);
-    const int j = static_cast<int>((n / dims[0]) % dims[1]);
-    const int k = static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]));
-    const int idx[3] = {i, j, k};
+    const std::array<int, 3> idx = nodeIndex(dims, n);
     const int d = faceDirection(f);
     return idx[d] == (faceIsMax(f) ? dims[d] - 1 : 0);
 }
@@ -37,8 +34,7 @@ std::vector<long> faceNodes(const std::array<int, 3>& dims, int f) {
 
 long faceNodeIndex(const std::array<int, 3>& dims, int f, long n) {
     const int d = faceDirection(f), a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
-    const int idx[3] = {static_cast<int>(n % dims[0]), static_cast<int>((n / dims[0]) % dims[1]),
-                        static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]))};
+    const std::array<int, 3> idx = nodeIndex(dims, n);
     return idx[a] + static_cast<long>(dims[a]) * idx[b];
 }
 

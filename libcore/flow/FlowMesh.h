@@ -49,6 +49,11 @@ struct FlowMesh {
 /// Face f (0 i=0, 1 i=max, 2 j=0, 3 j=max, 4 k=0, 5 k=max): its normal direction and side.
 inline int faceDirection(int f) { return f / 2; }
 inline bool faceIsMax(int f) { return f % 2 == 1; }
+/// (i, j, k) of local node n of a block with `dims` (i fastest).
+inline std::array<int, 3> nodeIndex(const std::array<int, 3>& dims, long n) {
+    return {static_cast<int>(n % dims[0]), static_cast<int>((n / dims[0]) % dims[1]),
+            static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]))};
+}
 /// Whether local node n of a block with `dims` lies on face f.
 bool onFace(const std::array<int, 3>& dims, long n, int f);
 /// Local nodes of face f, the lower tangential index fastest.

@@ -294,7 +294,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             const int h = static_cast<int>(rep.history.size());
             const int first = h - 1 - opt.slowWindow;
             bool full = first >= windowStart;
-            for (int i = std::max(first + 1, 0); full && i < h; ++i) {
+            for (int i = first + 1; full && i < h; ++i) {
                 full = rep.history[i].stepScale == 1.0 && !rep.history[i].exact && rep.history[i].cfl >= opt.exactCfl;
             }
             if (full) {

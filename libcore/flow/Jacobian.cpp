@@ -40,11 +40,6 @@ bool colouringWorks(int P, int a, int b, int radius) {
     return true;
 }
 
-std::array<int, 3> nodeIndex(const std::array<int, 3>& dims, long n) {
-    return {static_cast<int>(n % dims[0]), static_cast<int>((n / dims[0]) % dims[1]),
-            static_cast<int>(n / (static_cast<long>(dims[0]) * dims[1]))};
-}
-
 // d/dq and d/dqOther of the SAT 2 (F*(q, qOther, n, nhat) - F_n(q)) (5x5 row-major each).
 void satJacobian(BoundaryFluxFn<cplx> flux, const double* q, const double* qOther, const double* n,
                  const double* nhat, const FreeStream& fs, double* dq, double* dOther) {

@@ -189,7 +189,9 @@ TEST(Residual, WallJunctionsKeepTheTruncationErrorOfAFlowAlongACurvedWall) {
         }
         std::printf("around %d: truncation error per volume on the walls %.3e, at the junctions %.3e\n", n, wall, junction);
         EXPECT_LT(junction, 0.05);
-        if (previous > 0) EXPECT_LT(junction, 0.6 * previous);
+        if (previous > 0) {
+            EXPECT_LT(junction, 0.6 * previous);
+        }
         previous = junction;
     }
 }
