@@ -111,6 +111,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         flow::ResidualOptions ro;
         ro.freeStream = c.flow.freeStream;
         ro.dissipation = c.flow.dissipation;
+        ro.scheme = c.flow.scheme;
         flow::NewtonOptions no = c.flow.newton;
 
         // Start: a restart file (command line first, then the case) or the free stream.

@@ -19,6 +19,14 @@ namespace aero::flow {
 
 constexpr int kVars = 5;  // rho, rho u, rho v, rho w, rho E
 
+/// The interior inviscid discretization. Central: D_d(m_d . F) with nodal fluxes (the classical
+/// conservative form). EntropyConservative: the same SBP operator in flux-difference form with the
+/// two-point flux F_ec(q_i, q_i+1, (m_i + m_i+1)/2) between neighbours (below), and the
+/// interface and farfield SATs built on F_ec: the discretization then conserves entropy except
+/// for the dissipation and the boundary terms, which only produce it.
+enum class InviscidScheme { Central, EntropyConservative };
+
+
 /// Free-stream conditions. The velocity lies in the X-Z plane: u = Mach (cos alpha, 0, sin alpha)
 /// (X streamwise, Z up, Y spanwise / normal to the symmetry plane).
 struct FreeStream {
@@ -121,6 +129,59 @@ inline void absJacobianProduct(const T* q, const T* n, const T* dq, double gamma
     out[4] = l3 * dq[4] + a * H + b * U;
 }
 
+/// Logarithmic mean (a - b) / (ln a - ln b) of two positive numbers, written as
+/// (a + b) / (2 atanh(f) / f) with f = (a - b) / (a + b), and a series in f^2 when |f| < 1e-2
+/// (its truncation error f^8 / 9 is below round-off), so it is smooth and complex-step
+/// differentiable through a = b.
+template <class T>
+inline T logMean(const T& a, const T& b) {
+    using std::atanh;
+    const T f = (a - b) / (a + b);
+    const T u = f * f;
+    const T F = realPart(u) < 1e-4 ? 1.0 + u * (1.0 / 3.0 + u * (1.0 / 5.0 + u * (1.0 / 7.0))) : atanh(f) / f;
+    return 0.5 * (a + b) / F;
+}
+
+/// Entropy variables w = dU/dq of the entropy function U = -rho s / (gamma - 1),
+/// s = ln p - gamma ln rho: w = ((gamma - s)/(gamma - 1) - rho |u|^2 / (2p), rho u / p, -rho / p).
+template <class T>
+inline void entropyVariables(const T* q, double gamma, T* w) {
+    using std::log;
+    const T p = pressure(q, gamma);
+    const T s = log(p) - gamma * log(q[0]);
+    const T k = 0.5 * (q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) / q[0];
+    w[0] = (gamma - s) / (gamma - 1.0) - k / p;
+    w[1] = q[1] / p;
+    w[2] = q[2] / p;
+    w[3] = q[3] / p;
+    w[4] = -q[0] / p;
+}
+
+/// Entropy-conservative two-point flux through n (Chandrashekar, Commun. Comput. Phys. 14, 2013):
+/// with logarithmic means rho^ and beta^ of rho and beta = rho / (2p), arithmetic means (bar),
+///   F_rho = rho^ (u_bar . n),  F_m = p~ n + u_bar F_rho  (p~ = rho_bar / (2 beta_bar)),
+///   F_E = (1 / (2 (gamma - 1) beta^) - |u|^2_bar / 2) F_rho + u_bar . F_m.
+/// Consistent (F(q, q) = F_n(q)), symmetric, and (w_b - w_a) . F = rho_b U_b - rho_a U_a
+/// (Tadmor's condition, U = u . n): a flux difference of these conserves entropy exactly.
+template <class T>
+inline void entropyConservativeFlux(const T* qa, const T* qb, const T* n, double gamma, T* f) {
+    const T ra = 1.0 / qa[0], rb = 1.0 / qb[0];
+    const T ua[3] = {qa[1] * ra, qa[2] * ra, qa[3] * ra}, ub[3] = {qb[1] * rb, qb[2] * rb, qb[3] * rb};
+    const T ka = ua[0] * ua[0] + ua[1] * ua[1] + ua[2] * ua[2];
+    const T kb = ub[0] * ub[0] + ub[1] * ub[1] + ub[2] * ub[2];
+    const T pa = (gamma - 1.0) * (qa[4] - 0.5 * qa[0] * ka), pb = (gamma - 1.0) * (qb[4] - 0.5 * qb[0] * kb);
+    const T ba = 0.5 * qa[0] / pa, bb = 0.5 * qb[0] / pb;
+    const T rhoLn = logMean(qa[0], qb[0]), betaLn = logMean(ba, bb);
+    const T u[3] = {0.5 * (ua[0] + ub[0]), 0.5 * (ua[1] + ub[1]), 0.5 * (ua[2] + ub[2])};
+    const T pt = 0.5 * (qa[0] + qb[0]) / (ba + bb);
+    const T un = u[0] * n[0] + u[1] * n[1] + u[2] * n[2];
+    f[0] = rhoLn * un;
+    f[1] = pt * n[0] + u[0] * f[0];
+    f[2] = pt * n[1] + u[1] * f[0];
+    f[3] = pt * n[2] + u[2] * f[0];
+    f[4] = (1.0 / (2.0 * (gamma - 1.0) * betaLn) - 0.25 * (ka + kb)) * f[0] + u[0] * f[1] + u[1] * f[2] + u[2] * f[3];
+}
+
 /// Characteristic upwind flux through n from state qa (this side) to qb (other side):
 ///   F* = (F_n(qa) + F_n(qb))/2 - |A_n(qm)| (qb - qa)/2,  qm = (qa + qb)/2.
 /// Symmetric: F*(qa, qb, n) = -F*(qb, qa, -n), so interface terms telescope.
@@ -135,6 +196,20 @@ inline void upwindFlux(const T* qa, const T* qb, const T* n, double gamma, T* f)
     }
     absJacobianProduct(qm, n, dq, gamma, d);
     for (int v = 0; v < kVars; ++v) f[v] = 0.5 * (fa[v] + fb[v]) - 0.5 * d[v];
+}
+
+/// The same upwinding with the entropy-conservative flux as its central part:
+///   F* = F_ec(qa, qb, n) - |A_n(qm)| (qb - qa)/2.
+template <class T>
+inline void entropyUpwindFlux(const T* qa, const T* qb, const T* n, double gamma, T* f) {
+    T qm[kVars], dq[kVars], d[kVars];
+    entropyConservativeFlux(qa, qb, n, gamma, f);
+    for (int v = 0; v < kVars; ++v) {
+        qm[v] = 0.5 * (qa[v] + qb[v]);
+        dq[v] = qb[v] - qa[v];
+    }
+    absJacobianProduct(qm, n, dq, gamma, d);
+    for (int v = 0; v < kVars; ++v) f[v] -= 0.5 * d[v];
 }
 
 }  // namespace aero::flow

@@ -69,7 +69,8 @@ void addBlock(BlockSparseMatrix& J, long row, long col, const double* b, double 
 }
 
 void addInterfaceBlocks(const FlowMesh& fm, const std::vector<double>& metrics, const double* q,
-                        const FreeStream& fs, BlockSparseMatrix& J) {
+                        const FreeStream& fs, InviscidScheme scheme, BlockSparseMatrix& J) {
+    const BoundaryFluxFn<cplx> flux = boundaryFlux<cplx>(mesh::BoundaryKind::Interface, scheme);
     for (const InterfacePatch& ip : fm.interfaces) {
         const long offA = fm.blocks[ip.blockA].offset, offB = fm.blocks[ip.blockB].offset;
         const long count = static_cast<long>(ip.nodes.size());
@@ -78,11 +79,11 @@ void addInterfaceBlocks(const FlowMesh& fm, const std::vector<double>& metrics, 
             const long na = offA + ip.nodes[p][0], nb = offB + ip.nodes[p][1];
             double n[3], dSelf[kBlockSize], dOther[kBlockSize];
             outwardNormal(&metrics[kMetricWidth * na], ip.faceA, n);
-            satJacobian(&interfaceFlux<cplx>, q + kVars * na, q + kVars * nb, n, n, fs, dSelf, dOther);
+            satJacobian(flux, q + kVars * na, q + kVars * nb, n, n, fs, dSelf, dOther);
             addBlock(J, na, na, dSelf);
             addBlock(J, na, nb, dOther);
             outwardNormal(&metrics[kMetricWidth * nb], ip.faceB, n);
-            satJacobian(&interfaceFlux<cplx>, q + kVars * nb, q + kVars * na, n, n, fs, dSelf, dOther);
+            satJacobian(flux, q + kVars * nb, q + kVars * na, n, n, fs, dSelf, dOther);
             addBlock(J, nb, nb, dSelf);
             addBlock(J, nb, na, dOther);
         }
@@ -205,7 +206,7 @@ void assembleJacobian(const FlowMesh& fm, const std::vector<double>& metrics, co
             }
         }
     }
-    if (o.terms & kInterfaceSat) addInterfaceBlocks(fm, metrics, q, o.freeStream, J);
+    if (o.terms & kInterfaceSat) addInterfaceBlocks(fm, metrics, q, o.freeStream, o.scheme, J);
 }
 
 void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& metrics,
@@ -219,21 +220,21 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
         const long N = blk.nodeCount();
         const BlockView<const double> qb{q + kVars * blk.offset, blk.dims, kVars};
         const BlockView<const double> mb{metrics.data() + kMetricWidth * blk.offset, blk.dims, kMetricWidth};
-        // Flux Jacobians dF_{m_d}/dq at every node (complex step of the pointwise flux).
+        // Cartesian flux Jacobians dF_c/dq (c = x, y, z) at every node (complex step of the
+        // pointwise flux through the unit vectors): the Jacobian through any n is sum_c n_c A_c.
         std::vector<double> A;
         if (o.terms & kInviscid) {
             A.resize(3 * kBlockSize * static_cast<std::size_t>(N));
 #pragma omp parallel for schedule(static)
             for (long n = 0; n < N; ++n) {
-                for (int d = 0; d < 3; ++d) {
-                    const double* m = mb.at(n) + 3 * d;
-                    const cplx nc[3] = {m[0], m[1], m[2]};
+                for (int c = 0; c < 3; ++c) {
+                    const cplx nc[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 2 ? 1.0 : 0.0};
                     for (int w = 0; w < kVars; ++w) {
                         cplx qc[kVars], f[kVars];
                         for (int v = 0; v < kVars; ++v) qc[v] = qb.at(n)[v];
                         qc[w] += cplx(0.0, kStep);
                         normalFlux(qc, nc, gamma, f);
-                        for (int v = 0; v < kVars; ++v) A[kBlockSize * (d * N + n) + kBlock * v + w] = f[v].imag() / kStep;
+                        for (int v = 0; v < kVars; ++v) A[kBlockSize * (3 * n + c) + kBlock * v + w] = f[v].imag() / kStep;
                     }
                 }
             }
@@ -248,18 +249,50 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
                 const int len = blk.dims[d], a = idx[d];
                 const long s = qb.stride(d);
                 if (o.terms & kInviscid) {
-                    auto add = [&](long col, double coef) {
-                        addBlock(J, row, blk.offset + col, &A[kBlockSize * (d * N + col)], coef);
+                    // coef * dF_nv/dq at node col, nv = sum of the weights times metric vectors.
+                    auto add = [&](long col, double coef, const double* nv) {
+                        double blockJ[kBlockSize];
+                        const double* a = &A[kBlockSize * 3 * col];
+                        for (int e = 0; e < kBlockSize; ++e) {
+                            blockJ[e] = coef * (nv[0] * a[e] + nv[1] * a[kBlockSize + e] + nv[2] * a[2 * kBlockSize + e]);
+                        }
+                        addBlock(J, row, blk.offset + col, blockJ);
                     };
-                    if (a == 0) {
-                        add(n, -1.0);
-                        add(n + s, 1.0);
-                    } else if (a == len - 1) {
-                        add(n, 1.0);
-                        add(n - s, -1.0);
+                    const double* mn = mb.at(n) + 3 * d;
+                    if (o.scheme == InviscidScheme::Central) {
+                        if (a == 0) {
+                            add(n, -1.0, mn);
+                            add(n + s, 1.0, mb.at(n + s) + 3 * d);
+                        } else if (a == len - 1) {
+                            add(n, 1.0, mn);
+                            add(n - s, -1.0, mb.at(n - s) + 3 * d);
+                        } else {
+                            add(n - s, -0.5, mb.at(n - s) + 3 * d);
+                            add(n + s, 0.5, mb.at(n + s) + 3 * d);
+                        }
                     } else {
-                        add(n - s, -0.5);
-                        add(n + s, 0.5);
+                        // The flux-difference form linearized with F_ec ~ (F(q_i) + F(q_j))/2 through
+                        // the averaged metric (exact at a uniform state, where dF_ec/dq_j = A_j / 2).
+                        double diag[3] = {0, 0, 0};
+                        if (a < len - 1) {
+                            const double* mp = mb.at(n + s) + 3 * d;
+                            const double w = a == 0 ? 2.0 : 1.0;
+                            const double nav[3] = {0.5 * (mn[0] + mp[0]), 0.5 * (mn[1] + mp[1]), 0.5 * (mn[2] + mp[2])};
+                            add(n + s, 0.5 * w, nav);
+                            for (int c = 0; c < 3; ++c) diag[c] += 0.5 * w * nav[c];
+                        } else {
+                            for (int c = 0; c < 3; ++c) diag[c] += 2.0 * mn[c];
+                        }
+                        if (a > 0) {
+                            const double* mm = mb.at(n - s) + 3 * d;
+                            const double w = a == len - 1 ? 2.0 : 1.0;
+                            const double nav[3] = {0.5 * (mn[0] + mm[0]), 0.5 * (mn[1] + mm[1]), 0.5 * (mn[2] + mm[2])};
+                            add(n - s, -0.5 * w, nav);
+                            for (int c = 0; c < 3; ++c) diag[c] -= 0.5 * w * nav[c];
+                        } else {
+                            for (int c = 0; c < 3; ++c) diag[c] -= 2.0 * mn[c];
+                        }
+                        add(n, 1.0, diag);
                     }
                 }
                 if (o.terms & kDissipation) {
@@ -287,14 +320,14 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
                     double nrm[3], nhat[3], dSelf[kBlockSize];
                     outwardNormal(mb.at(n), f, nrm);
                     surfaceNormal(blk, f, faceNodeIndex(blk.dims, f, n), nrm, junctionNormals, nhat);
-                    satJacobian(boundaryFlux<cplx>(kind), qb.at(n), nullptr, nrm, nhat, fs, dSelf,
+                    satJacobian(boundaryFlux<cplx>(kind, o.scheme), qb.at(n), nullptr, nrm, nhat, fs, dSelf,
                                 nullptr);
                     addBlock(J, row, row, dSelf);
                 }
             }
         }
     }
-    if (o.terms & kInterfaceSat) addInterfaceBlocks(fm, metrics, q, fs, J);
+    if (o.terms & kInterfaceSat) addInterfaceBlocks(fm, metrics, q, fs, o.scheme, J);
 }
 
 JacobianProduct::JacobianProduct(const FlowMesh& fm, const std::vector<double>& metrics,

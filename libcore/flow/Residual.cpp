@@ -39,6 +39,55 @@ void inviscidTerm(const BlockView<const T>& q, const BlockView<const T>& m, doub
     }
 }
 
+// The entropy-conservative flux-difference form of the same SBP operator: per direction, the
+// flux between neighbours i and i+1 is f = F_ec(q_i, q_i+1, (m_i + m_i+1)/2); node i gets
+// (f_i+1/2 - f_i-1/2) / H_ii, with the SBP boundary flux F_n(q) at the ends (the SATs replace it).
+// With F_ec(q, q, n) = F_n(q) and metrics that satisfy sum_d D_d m_d = 0 a uniform flow stays
+// a steady state.
+template <class T>
+void entropyConservativeTerm(const BlockView<const T>& q, const BlockView<const T>& m, double gamma,
+                             const BlockView<T>& r) {
+    const std::array<int, 3> dims = q.dims;
+    for (int d = 0; d < 3; ++d) {
+        const int len = dims[d];
+        if (len < 2) continue;
+        const long s = q.stride(d);
+#pragma omp parallel for schedule(static)
+        for (int k = 0; k < dims[2]; ++k) {
+            for (int j = 0; j < dims[1]; ++j) {
+                for (int i = 0; i < dims[0]; ++i) {
+                    const int idx[3] = {i, j, k};
+                    const int a = idx[d];
+                    const long n = q.node(i, j, k);
+                    T* rn = r.at(n);
+                    T f[kVars];
+                    const T* mn = m.at(n) + 3 * d;
+                    if (a < len - 1) {
+                        const T* mp = m.at(n + s) + 3 * d;
+                        const T nav[3] = {0.5 * (mn[0] + mp[0]), 0.5 * (mn[1] + mp[1]), 0.5 * (mn[2] + mp[2])};
+                        entropyConservativeFlux(q.at(n), q.at(n + s), nav, gamma, f);
+                        const double w = a == 0 ? 2.0 : 1.0;
+                        for (int v = 0; v < kVars; ++v) rn[v] += w * f[v];
+                    } else {
+                        normalFlux(q.at(n), mn, gamma, f);
+                        for (int v = 0; v < kVars; ++v) rn[v] += 2.0 * f[v];
+                    }
+                    if (a > 0) {
+                        const T* mm = m.at(n - s) + 3 * d;
+                        const T nav[3] = {0.5 * (mn[0] + mm[0]), 0.5 * (mn[1] + mm[1]), 0.5 * (mn[2] + mm[2])};
+                        entropyConservativeFlux(q.at(n - s), q.at(n), nav, gamma, f);
+                        const double w = a == len - 1 ? 2.0 : 1.0;
+                        for (int v = 0; v < kVars; ++v) rn[v] -= w * f[v];
+                    } else {
+                        normalFlux(q.at(n), mn, gamma, f);
+                        for (int v = 0; v < kVars; ++v) rn[v] -= 2.0 * f[v];
+                    }
+                }
+            }
+        }
+    }
+}
+
 // (F*(q, qOther, n, nhat) - F_n(q)) / H_n added to rn; H_n = 1/2 at every face node.
 template <class T>
 void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const T* nhat,
@@ -51,11 +100,12 @@ void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, con
 
 template <class T>
 void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const BlockView<const T>& m,
-                  const FreeStream& fs, const std::vector<T>& junctionNormals, const BlockView<T>& r) {
+                  const FreeStream& fs, InviscidScheme scheme, const std::vector<T>& junctionNormals,
+                  const BlockView<T>& r) {
     for (int f = 0; f < 6; ++f) {
         const mesh::BoundaryKind kind = blk.faces[f].kind;
         if (kind == mesh::BoundaryKind::Interface) continue;
-        const BoundaryFluxFn<T> flux = boundaryFlux<T>(kind);
+        const BoundaryFluxFn<T> flux = boundaryFlux<T>(kind, scheme);
         const std::vector<long> nodes = faceNodes(blk.dims, f);
         const long count = static_cast<long>(nodes.size());
 #pragma omp parallel for schedule(static)
@@ -70,8 +120,9 @@ void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const Block
 }
 
 template <class T>
-void interfaceTerm(const FlowMesh& fm, const T* metrics, const T* q, const FreeStream& fs, T* r) {
-    const BoundaryFluxFn<T> flux = &interfaceFlux<T>;
+void interfaceTerm(const FlowMesh& fm, const T* metrics, const T* q, const FreeStream& fs,
+                   InviscidScheme scheme, T* r) {
+    const BoundaryFluxFn<T> flux = boundaryFlux<T>(mesh::BoundaryKind::Interface, scheme);
     for (const InterfacePatch& ip : fm.interfaces) {
         const long offA = fm.blocks[ip.blockA].offset, offB = fm.blocks[ip.blockB].offset;
         const long count = static_cast<long>(ip.nodes.size());
@@ -136,14 +187,20 @@ void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOp
         const BlockView<const T> qb{q + kVars * blk.offset, blk.dims, kVars};
         const BlockView<const T> mb{metrics + kMetricWidth * blk.offset, blk.dims, kMetricWidth};
         const BlockView<T> rb{r + kVars * blk.offset, blk.dims, kVars};
-        if (o.terms & kInviscid) inviscidTerm(qb, mb, gamma, rb);
+        if (o.terms & kInviscid) {
+            if (o.scheme == InviscidScheme::EntropyConservative) {
+                entropyConservativeTerm(qb, mb, gamma, rb);
+            } else {
+                inviscidTerm(qb, mb, gamma, rb);
+            }
+        }
         if (o.terms & kDissipation) {
             addDissipation(qb, mb, o.dissipation, gamma, o.lumpedDissipation, o.freezeCoefficients,
                            rb);
         }
-        if (o.terms & kBoundarySat) boundaryTerm(blk, qb, mb, o.freeStream, junctionNormals, rb);
+        if (o.terms & kBoundarySat) boundaryTerm(blk, qb, mb, o.freeStream, o.scheme, junctionNormals, rb);
     }
-    if (o.terms & kInterfaceSat) interfaceTerm(fm, metrics, q, o.freeStream, r);
+    if (o.terms & kInterfaceSat) interfaceTerm(fm, metrics, q, o.freeStream, o.scheme, r);
 }
 
 std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs) {

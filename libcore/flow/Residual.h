@@ -28,6 +28,7 @@ enum ResidualTerms : unsigned {
 
 struct ResidualOptions {
     FreeStream freeStream;
+    InviscidScheme scheme = InviscidScheme::EntropyConservative;
     DissipationOptions dissipation;
     unsigned terms = kAllTerms;
     /// Preconditioner variant: lumped second-difference dissipation (7-point stencil).

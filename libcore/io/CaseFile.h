@@ -57,6 +57,7 @@ struct FlowCase {
     flow::FreeStream freeStream;
     flow::ForceReference reference;   // default area pi/2 (the half-sphere's half frontal disc)
     flow::DissipationOptions dissipation;
+    flow::InviscidScheme scheme = flow::InviscidScheme::EntropyConservative;
     flow::NewtonOptions newton;
     std::string restart;              // start from this restart file (resolved), empty: free stream
 };

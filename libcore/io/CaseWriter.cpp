@@ -194,7 +194,8 @@ Json caseJson(const CaseFile& c) {
                   {"linear_tolerance", f.newton.linearTolerance},
                   {"ilu_fill", f.newton.iluFill},
                   {"ilu_parts", f.newton.preconditionerParts},
-                  {"lumping", f.dissipation.lumping}};
+                  {"lumping", f.dissipation.lumping},
+                  {"scheme", f.scheme == flow::InviscidScheme::Central ? "central" : "entropy_conservative"}};
         if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
         doc["flow"] = std::move(j);
     }

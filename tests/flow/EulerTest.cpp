@@ -138,3 +138,66 @@ TEST(Euler, BoundaryFluxesByNameAndFreeStreamConsistency) {
         EXPECT_NE(std::string(e.what()).find("flow.boundary"), std::string::npos);
     }
 }
+
+TEST(Euler, LogarithmicMeanIsAccurateAndComplexStepDifferentiableThroughEqualArguments) {
+    for (double b : {1.0, 0.3, 7.0}) {
+        for (double rel : {0.0, 1e-12, 1e-6, 1e-3, 0.0199, 0.0201, 0.3, 2.0}) {
+            const double a = b * (1.0 + rel);
+            // Reference in long double: (a - b) / ln(a / b) with ln(a / b) = log1p(rel), b at rel = 0.
+            const long double la = a, lb = b, lr = (la - lb) / lb;
+            const double ref = rel == 0.0 ? b : static_cast<double>((la - lb) / std::log1p(lr));
+            EXPECT_NEAR(logMean(a, b), ref, 2e-15 * ref) << a << " " << b;
+            EXPECT_EQ(logMean(a, b), logMean(b, a));
+            // d/da of the log mean: (L - L^2 / a) / (a - b), whose limit at a = b is 1/2.
+            const double h = 1e-30;
+            const double d = logMean(cplx(a, h), cplx(b, 0.0)).imag() / h;
+            const long double L = rel == 0.0 ? lb : (la - lb) / std::log1p(lr);
+            const double dref = rel > 1e-5 ? static_cast<double>((L - L * L / la) / (la - lb)) : 0.5 - rel / 6.0 + rel * rel / 8.0;
+            EXPECT_NEAR(d, dref, 1e-13) << a << " " << b;
+        }
+    }
+}
+
+TEST(Euler, EntropyConservativeFluxIsConsistentSymmetricAndConservesEntropy) {
+    std::mt19937 rng(11);
+    for (int t = 0; t < 200; ++t) {
+        double qa[5], qb[5], n[3], nb[3];
+        randomState(rng, 1.5, qa, n);
+        randomState(rng, 1.5, qb, nb);
+        double f[5], g[5], F[5];
+        entropyConservativeFlux(qa, qb, n, 1.4, f);
+        entropyConservativeFlux(qb, qa, n, 1.4, g);
+        for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], g[v], 1e-14 * (1.0 + std::abs(f[v])));
+        // Tadmor's condition: (w_b - w_a) . F = psi_b - psi_a with psi = rho u . n.
+        double wa[5], wb[5];
+        entropyVariables(qa, 1.4, wa);
+        entropyVariables(qb, 1.4, wb);
+        double lhs = 0, scale = 0;
+        for (int v = 0; v < 5; ++v) {
+            lhs += (wb[v] - wa[v]) * f[v];
+            scale += std::abs(wb[v] * f[v]) + std::abs(wa[v] * f[v]);
+        }
+        const double psi = (qb[1] * n[0] + qb[2] * n[1] + qb[3] * n[2]) - (qa[1] * n[0] + qa[2] * n[1] + qa[3] * n[2]);
+        EXPECT_NEAR(lhs, psi, 1e-14 * scale);
+        // Consistency: F_ec(q, q) = F_n(q).
+        entropyConservativeFlux(qa, qa, n, 1.4, f);
+        normalFlux(qa, n, 1.4, F);
+        for (int v = 0; v < 5; ++v) EXPECT_NEAR(f[v], F[v], 1e-14 * (1.0 + std::abs(F[v])));
+    }
+}
+
+TEST(Euler, EntropyVariablesAreTheGradientOfTheEntropyFunction) {
+    // w = dU/dq for U = -rho s / (gamma - 1), by complex step.
+    std::mt19937 rng(5);
+    double q[5], n[3], w[5];
+    randomState(rng, 0.8, q, n);
+    entropyVariables(q, 1.4, w);
+    for (int c = 0; c < 5; ++c) {
+        cplx qc[5];
+        for (int v = 0; v < 5; ++v) qc[v] = q[v];
+        qc[c] += cplx(0, 1e-30);
+        const cplx p = pressure(qc, 1.4);
+        const cplx U = -qc[0] * (std::log(p) - 1.4 * std::log(qc[0])) / 0.4;
+        EXPECT_NEAR(U.imag() / 1e-30, w[c], 1e-13 * (1.0 + std::abs(w[c])));
+    }
+}

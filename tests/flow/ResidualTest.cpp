@@ -60,7 +60,8 @@ std::array<double, 5> weightedSum(const FlowMesh& fm, const std::vector<double>&
 
 // sum over the non-interface boundary faces of H_t1 H_t2 flux(q, n_out): `numerical` selects the
 // boundary condition's F*, otherwise the physical F_n(q).
-std::array<double, 5> boundaryFluxSum(const FlowCase& c, const std::vector<double>& q, const FreeStream& fs, bool numerical) {
+std::array<double, 5> boundaryFluxSum(const FlowCase& c, const std::vector<double>& q, const FreeStream& fs, bool numerical,
+                                      InviscidScheme scheme = InviscidScheme::EntropyConservative) {
     std::array<double, 5> s{};
     const std::vector<double> junctionNormals = wallJunctionNormals(c.fm, c.metrics.data());
     for (const FlowBlock& blk : c.fm.blocks) {
@@ -76,7 +77,7 @@ std::array<double, 5> boundaryFluxSum(const FlowCase& c, const std::vector<doubl
                 outwardNormal(&c.metrics[kMetricWidth * g], f, n);
                 surfaceNormal(blk, f, faceNodeIndex(blk.dims, f, node), n, junctionNormals, nhat);
                 if (numerical) {
-                    boundaryFlux<double>(blk.faces[f].kind)(&q[5 * g], nullptr, n, nhat, fs, F);
+                    boundaryFlux<double>(blk.faces[f].kind, scheme)(&q[5 * g], nullptr, n, nhat, fs, F);
                 } else {
                     normalFlux(&q[5 * g], n, fs.gamma, F);
                 }
@@ -156,6 +157,11 @@ TEST(Residual, FreeStreamIsPreservedWithWallsAlongTheFlow) {
 // SAT imposed u . n = 0 for two normals tilted by O(h) in opposite senses: an O(1) truncation
 // error (1.7 on both grids below) that forced a spurious stagnation point.
 TEST(Residual, WallJunctionsKeepTheTruncationErrorOfAFlowAlongACurvedWall) {
+    // Measured (junction error on 17 / 33 nodes around): central 0.023 / 0.013, entropy-conservative
+    // 0.085 / 0.044 (its flux through the averaged metric weighs the one-sided boundary closure
+    // differently); both fall at first order, 40 times below the defect.
+    for (const InviscidScheme scheme : {InviscidScheme::Central, InviscidScheme::EntropyConservative}) {
+    const double bound = scheme == InviscidScheme::Central ? 0.05 : 0.1;
     double previous = 0;
     for (int n : {17, 33}) {
         std::vector<double> exact;
@@ -171,6 +177,7 @@ TEST(Residual, WallJunctionsKeepTheTruncationErrorOfAFlowAlongACurvedWall) {
             EXPECT_NEAR(jn[3 * j + 2], s * x[2] / r, 1e-12);
         }
         ResidualOptions o;
+        o.scheme = scheme;
         o.terms = kInviscid | kBoundarySat | kInterfaceSat;
         const std::vector<double> r = evalResidual(c, exact, o);
         double wall = 0, junction = 0;
@@ -188,26 +195,28 @@ TEST(Residual, WallJunctionsKeepTheTruncationErrorOfAFlowAlongACurvedWall) {
             }
         }
         std::printf("around %d: truncation error per volume on the walls %.3e, at the junctions %.3e\n", n, wall, junction);
-        EXPECT_LT(junction, 0.05);
+        EXPECT_LT(junction, bound);
         if (previous > 0) {
             EXPECT_LT(junction, 0.6 * previous);
         }
         previous = junction;
+    }
     }
 }
 
 TEST(Residual, IsConservative) {
     // sum_nodes H R = sum over the boundary faces of H_t F* (interior fluxes telescope, the
     // dissipation sums to zero, the two sides of every interface cancel).
-    for (int which = 0; which < 2; ++which) {
+    for (int which = 0; which < 4; ++which) {
         const FlowCase box = wavyBox(7, mesh::BoundaryKind::Wall);
-        const FlowCase& c = which == 0 ? halfSphere(0.5) : box;
+        const FlowCase& c = which % 2 == 0 ? halfSphere(0.5) : box;
         ResidualOptions o;
         o.freeStream = {0.5, 2.0, 1.4};
+        o.scheme = which < 2 ? InviscidScheme::EntropyConservative : InviscidScheme::Central;
         const auto q = smoothState(c, 0.5, 0.08);
         const double scale = fluxScale(c, q) * static_cast<double>(c.fm.nodeCount);
         const auto full = weightedSum(c.fm, evalResidual(c, q, o));
-        const auto bc = boundaryFluxSum(c, q, o.freeStream, true);
+        const auto bc = boundaryFluxSum(c, q, o.freeStream, true, o.scheme);
         for (int v = 0; v < 5; ++v) EXPECT_NEAR(full[v], bc[v], 1e-14 * scale) << "case " << which << " var " << v;
 
         ResidualOptions d = o;
@@ -218,7 +227,7 @@ TEST(Residual, IsConservative) {
         ResidualOptions in = o;
         in.terms = kInviscid | kInterfaceSat;
         const auto interior = weightedSum(c.fm, evalResidual(c, q, in));
-        const auto phys = boundaryFluxSum(c, q, o.freeStream, false);
+        const auto phys = boundaryFluxSum(c, q, o.freeStream, false, o.scheme);
         for (int v = 0; v < 5; ++v) EXPECT_NEAR(interior[v], phys[v], 1e-14 * scale);
     }
 }

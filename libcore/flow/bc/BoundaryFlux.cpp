@@ -21,6 +21,18 @@ BoundaryFluxFn<T> boundaryFlux(mesh::BoundaryKind kind) {
     return boundaryFlux<T>(mesh::boundaryName(kind));
 }
 
+template <class T>
+BoundaryFluxFn<T> boundaryFlux(mesh::BoundaryKind kind, InviscidScheme scheme) {
+    if (scheme == InviscidScheme::EntropyConservative) {
+        if (kind == mesh::BoundaryKind::Farfield) return &entropyFarfieldFlux<T>;
+        if (kind == mesh::BoundaryKind::Interface) return &entropyInterfaceFlux<T>;
+    }
+    return boundaryFlux<T>(kind);
+}
+
+template BoundaryFluxFn<double> boundaryFlux<double>(mesh::BoundaryKind, InviscidScheme);
+template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>(mesh::BoundaryKind,
+                                                                               InviscidScheme);
 template BoundaryFluxFn<double> boundaryFlux<double>(const std::string&, const std::string&);
 template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>(
     const std::string&, const std::string&);

@@ -59,5 +59,18 @@ template <class T>
 BoundaryFluxFn<T> boundaryFlux(const std::string& name, const std::string& key = "boundary");
 template <class T>
 BoundaryFluxFn<T> boundaryFlux(mesh::BoundaryKind kind);
+/// The flux of `kind` for the interior scheme: with InviscidScheme::EntropyConservative the
+/// farfield and interface fluxes are entropyUpwindFlux (Euler.h); walls and symmetry planes are
+/// the same for both (the slip-wall flux is entropy stable for u_n > -c).
+template <class T>
+BoundaryFluxFn<T> boundaryFlux(mesh::BoundaryKind kind, InviscidScheme scheme);
+
+/// "farfield" and "interface" with the entropy-conservative flux as the central part.
+template <class T>
+void entropyFarfieldFlux(const T* q, const T* qOther, const T* n, const T* nhat, const FreeStream& fs,
+                         T* flux);
+template <class T>
+void entropyInterfaceFlux(const T* q, const T* qOther, const T* n, const T* nhat, const FreeStream& fs,
+                          T* flux);
 
 }  // namespace aero::flow
