@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -113,6 +114,10 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         ro.dissipation = c.flow.dissipation;
         ro.scheme = c.flow.scheme;
         flow::NewtonOptions no = c.flow.newton;
+        if (const char* e = std::getenv("AERO_CFLINC")) no.cflMaxIncrease = std::atof(e);  // EXPERIMENT
+        if (const char* e = std::getenv("AERO_GMRES")) no.gmresMaxIterations = std::atoi(e);  // EXPERIMENT
+        if (const char* e = std::getenv("AERO_FILL")) no.iluFill = std::atoi(e);  // EXPERIMENT
+        if (const char* e = std::getenv("AERO_LUMP")) ro.dissipation.lumping = std::atof(e);  // EXPERIMENT
 
         // Start: a restart file (command line first, then the case) or the free stream.
         std::vector<double> q;

@@ -16,12 +16,14 @@ T frozen(const T& x, bool freeze) {
 
 template <class T>
 void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& metrics, double gamma,
-                       bool freeze, DissipationFields<T>& f) {
+                       bool freeze, DissipationFields<T>& f, bool spacing) {
+    using std::sqrt;
     const long N = q.nodeCount();
     std::vector<T> p(N);
     for (int d = 0; d < 3; ++d) {
         f.lambda[d].resize(N);
         f.nu[d].resize(N);
+        f.spacing[d].resize(spacing ? N : 0);
     }
 #pragma omp parallel for schedule(static)
     for (long n = 0; n < N; ++n) {
@@ -29,6 +31,10 @@ void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& me
         p[n] = frozen(pressure(qn, gamma), freeze);
         for (int d = 0; d < 3; ++d) {
             f.lambda[d][n] = frozen(spectralRadius(qn, metrics.at(n) + 3 * d, gamma), freeze);
+            if (spacing) {
+                const T* m = metrics.at(n) + 3 * d;
+                f.spacing[d][n] = metrics.at(n)[9] / sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+            }
         }
     }
     const std::array<int, 3> dims = q.dims;
@@ -61,7 +67,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
                     const DissipationOptions& o, double gamma, bool lumped, bool freeze,
                     const BlockView<T>& r) {
     DissipationFields<T> f;
-    dissipationFields(q, metrics, gamma, freeze, f);
+    dissipationFields(q, metrics, gamma, freeze, f, o.gridAware && !lumped);
     const std::array<int, 3> dims = q.dims;
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < dims[2]; ++k) {
@@ -95,14 +101,30 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
                     // Fourth difference: (Dt2^T E4 Dt2 q)_i over the rows m = i-1, i, i+1 in
                     // 1..len-2.
                     if (!lumped) {
+                        // Row m of the second-difference operator: (wm, -2, wp) on nodes m-1, m, m+1;
+                        // (1, -2, 1), or weighted by the spacing so that it vanishes on linear fields.
+                        auto row = [&](long nm, T& wm, T& wp) {
+                            if (!o.gridAware) {
+                                wm = T(1.0);
+                                wp = T(1.0);
+                                return;
+                            }
+                            const std::vector<T>& h = f.spacing[d];
+                            const T hm = h[nm - s] + h[nm], hp = h[nm] + h[nm + s];
+                            wm = 2.0 * hp / (hm + hp);
+                            wp = 2.0 * hm / (hm + hp);
+                        };
                         for (int m = a - 1; m <= a + 1; ++m) {
                             if (m < 1 || m > len - 2) continue;
                             const long nm = n + (m - a) * s;
-                            const T w = (m == a ? -2.0 : 1.0) * eps4Node(lam[nm], nu[nm], o);
+                            T wm, wp;
+                            row(nm, wm, wp);
+                            const T coef = m == a ? T(-2.0) : (m < a ? wp : wm);  // q_n's weight in row m
+                            const T w = coef * eps4Node(lam[nm], nu[nm], o);
                             const T* qm = q.at(nm - s);
                             const T* q0 = q.at(nm);
                             const T* qp = q.at(nm + s);
-                            for (int v = 0; v < kVars; ++v) acc[v] += w * (qm[v] - 2.0 * q0[v] + qp[v]);
+                            for (int v = 0; v < kVars; ++v) acc[v] += w * (wm * qm[v] - 2.0 * q0[v] + wp * qp[v]);
                         }
                     }
                     const double hinv = 1.0 / sbpWeight(a, len);
@@ -115,7 +137,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
 
 #define AERO_INSTANTIATE(T)                                                                        \
     template void dissipationFields<T>(const BlockView<const T>&, const BlockView<const T>&,      \
-                                       double, bool, DissipationFields<T>&);                       \
+                                       double, bool, DissipationFields<T>&, bool);                       \
     template void addDissipation<T>(const BlockView<const T>&, const BlockView<const T>&,         \
                                     const DissipationOptions&, double, bool, bool,                 \
                                     const BlockView<T>&);

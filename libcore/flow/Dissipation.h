@@ -29,6 +29,11 @@ struct DissipationOptions {
                            // unstable mode grow at the half-sphere's rear stagnation point (0.05
                            // was needed); the entropy-conservative scheme is stable at 0.01
                            // (docs/validation.md)
+    bool gridAware = true;   // the fourth difference's second differences weighted by the node
+                             // spacing along the line (h = (1/J) / |m_d|), so they vanish on
+                             // fields linear in arc length: on a stretched grid the index-space
+                             // difference (q0 - 2 q1 + q2) of a smooth field is (r - 1) h dq/dn,
+                             // a first-order dissipation (an O(1) numerical friction at walls)
     double lumping = 3.0;   // sigma of the lumped (preconditioner) variant. The approximate-Newton
                             // start-up converges at the rate the lumped operator matches the
                             // real one: on the 11,340-node half-sphere sigma 16 takes 152
@@ -42,6 +47,7 @@ struct DissipationOptions {
 template <class T>
 struct DissipationFields {
     std::array<std::vector<T>, 3> lambda, nu;
+    std::array<std::vector<T>, 3> spacing;  // (1/J) / |m_d| per node (only with gridAware)
 };
 
 /// Fills `f` for block data q (width 5) and metrics (width kMetricWidth). `freeze`: compute the
@@ -49,7 +55,7 @@ struct DissipationFields {
 /// derivatives: the frozen-coefficient Jacobian).
 template <class T>
 void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& metrics, double gamma,
-                       bool freeze, DissipationFields<T>& f);
+                       bool freeze, DissipationFields<T>& f, bool spacing = false);
 
 template <class T>
 inline T eps2Half(const T& lamA, const T& lamB, const T& nuA, const T& nuB,

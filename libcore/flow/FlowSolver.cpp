@@ -157,6 +157,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     rep.lumping = approx.dissipation.lumping;
     int bestIteration = 0, rejections = 0;
     double cflHigh = 0;          // the largest CFL of an accepted step so far
+    double lastCfl = 0;          // the CFL of the last accepted step
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
                                  // an exact step fails)
     int windowStart = 0;         // history index from which the approximate steps are judged
@@ -164,7 +165,8 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
-        const double cfl = std::min(opt.cflMax, cflBase * std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
+        double cfl = std::min(opt.cflMax, cflBase * std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
+        if (lastCfl > 0) cfl = std::min(cfl, opt.cflMaxIncrease * lastCfl);
         d = timeStepScale(fm, metrics, q.data(), gamma);
         for (double& x : d) x /= cfl;
         auto assemble = [&] {
@@ -264,7 +266,14 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             continue;
         }
         rejections = 0;
-        if (rec.stepScale == 1.0) cflBase = std::min(opt.cflMax, opt.cflGrowth * cflBase);
+        lastCfl = cfl;
+        if (rec.linearResidual > opt.linearTolerance) {
+            // GMRES stopped short of the forcing tolerance: the system is too hard for the
+            // preconditioner at this CFL. Step back instead of growing into harder systems.
+            cflBase *= opt.cflBackoff;
+        } else if (rec.stepScale == 1.0) {
+            cflBase = std::min(opt.cflMax, opt.cflGrowth * cflBase);
+        }
         rep.cflBase = cflBase;
         ++rep.iterations;
         rep.finalResidual = Rn;

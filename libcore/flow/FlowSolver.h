@@ -29,6 +29,11 @@ struct NewtonOptions {
     double cflGrowth = 1.2;            // CFL base grows by this after every full step
     double cflExponent = 1.0;          // CFL = base max(1, (R0/R)^beta)
     double cflMax = 1e12;              // CFL cap (1e12: effectively Newton)
+    double cflBackoff = 0.5;           // the CFL base is multiplied by this after a step whose GMRES
+                                       // did not reach linearTolerance (accepted, but a sign that
+                                       // the next, larger CFL would be harder still)
+    double cflMaxIncrease = 1e300;     // the CFL of an iteration at most this times the last
+                                       // accepted one's (the (R0/R) factor can jump 5x in a step)
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
     int gmresRestart = 40;
     int gmresMaxIterations = 120;      // per nonlinear iteration

@@ -252,9 +252,9 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
                     // coef * dF_nv/dq at node col, nv = sum of the weights times metric vectors.
                     auto add = [&](long col, double coef, const double* nv) {
                         double blockJ[kBlockSize];
-                        const double* a = &A[kBlockSize * 3 * col];
+                        const double* Ac = &A[kBlockSize * 3 * col];
                         for (int e = 0; e < kBlockSize; ++e) {
-                            blockJ[e] = coef * (nv[0] * a[e] + nv[1] * a[kBlockSize + e] + nv[2] * a[2 * kBlockSize + e]);
+                            blockJ[e] = coef * (nv[0] * Ac[e] + nv[1] * Ac[kBlockSize + e] + nv[2] * Ac[2 * kBlockSize + e]);
                         }
                         addBlock(J, row, blk.offset + col, blockJ);
                     };

@@ -56,27 +56,53 @@ std::vector<double> geometricLayers(int n, double first) {
     return t;
 }
 
-// Clustered grid parameters: zeta(t) = (exp(beta t) - 1) / (exp(beta) - 1) sampled at uniform t,
-// beta chosen so the first interval of the base level is `first`; refinement samples the same
-// function more densely (a true refinement of one analytic grid).
-std::vector<double> clusteredSamples(int baseIntervals, double first, double refine) {
-    auto zeta = [](double beta, double t) {
-        return beta < 1e-9 ? t : std::expm1(beta * t) / std::expm1(beta);
+// Radial grid parameters whose physical spacing grows smoothly. Every column's control nodes lie
+// on its straight line at the fractions t_k of its length, so the fraction of the column at
+// parameter zeta is one monotone cubic s(zeta) = sum_k N_k(zeta) t_k for all columns. The grid's
+// fractions follow sigma(t) = (exp(beta t) - 1) / (exp(beta) - 1) at uniform t, beta chosen so
+// the first of the base level's intervals is `first` (a constant ratio exp(beta / n) between
+// neighbouring spacings), and zeta = s^-1(sigma). Refinement samples the same sigma more densely
+// (a true refinement of one analytic grid: node 2i of a twice finer grid is node i).
+// Sampling zeta itself with such a law (the former rule) multiplied two exponentials: the
+// coarse level's last radial cell was 18.5 times its neighbour.
+std::vector<double> radialSamples(const std::vector<double>& knots, int degree, const std::vector<double>& t,
+                                  int baseIntervals, double first, double refine) {
+    auto sigma = [](double beta, double x) {
+        return beta < 1e-9 ? x : std::expm1(beta * x) / std::expm1(beta);
     };
     const double t1 = 1.0 / baseIntervals;
     double beta = 0;
     if (first < t1) {
         double lo = 1e-9, hi = 1.0;
-        while (zeta(hi, t1) > first) hi *= 2;
+        while (sigma(hi, t1) > first) hi *= 2;
         for (int it = 0; it < 200; ++it) {
             const double mid = 0.5 * (lo + hi);
-            (zeta(mid, t1) > first ? lo : hi) = mid;
+            (sigma(mid, t1) > first ? lo : hi) = mid;
         }
         beta = 0.5 * (lo + hi);
     }
+    const int count = static_cast<int>(t.size());
+    auto fraction = [&](double zeta) {
+        const int span = nurbs::findSpan(knots, degree, count, zeta);
+        double N[nurbs::kMaxDegree + 1];
+        nurbs::basisFunctions(knots, degree, span, zeta, N);
+        double v = 0;
+        for (int a = 0; a <= degree; ++a) v += N[a] * t[span - degree + a];
+        return v;
+    };
     const int n = std::max(1, static_cast<int>(std::lround(baseIntervals * refine)));
     std::vector<double> s(n + 1);
-    for (int i = 0; i <= n; ++i) s[i] = (i == n) ? 1.0 : zeta(beta, static_cast<double>(i) / n);
+    s[0] = 0.0;
+    s[n] = 1.0;
+    for (int i = 1; i < n; ++i) {
+        const double target = sigma(beta, static_cast<double>(i) / n);
+        double lo = 0.0, hi = 1.0;  // s is monotone (increasing control fractions)
+        for (int it = 0; it < 100; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (fraction(mid) < target ? lo : hi) = mid;
+        }
+        s[i] = 0.5 * (lo + hi);
+    }
     return s;
 }
 
@@ -155,11 +181,12 @@ MultiBlockMesh extrudeToFarfield(const geometry::PatchSet& set, const ExtrusionO
         }
     }
 
-    // Grid parameters: uniform along the wall, clustered towards it radially. The first radial
-    // grid interval in parameter space follows from dx/dzeta at the wall: p (nk - p) * spacing0.
-    const double dxdzeta = o.radialDegree * (nk - o.radialDegree) * o.controlWallSpacing;
-    const std::vector<double> radial =
-        clusteredSamples(o.radialNodes - 1, o.gridWallSpacing / dxdzeta, o.refine);
+    // Grid parameters: uniform along the wall, clustered towards it radially with a smoothly
+    // growing physical spacing (radialSamples), measured on a column of the body radius.
+    const std::vector<double> radialKnots = nurbs::uniformKnots(o.radialDegree, nk);
+    const std::vector<double> radial = radialSamples(
+        radialKnots, o.radialDegree, geometricLayers(nk, o.controlWallSpacing * radius / (farfield - radius)),
+        o.radialNodes - 1, o.gridWallSpacing * radius / (farfield - radius), o.refine);
     const std::vector<double> along = uniformSamples(o.surfaceNodes - 1, o.refine);
 
     const geometry::Adjacency adj = geometry::buildAdjacency(set, 1e-9);
@@ -175,7 +202,7 @@ MultiBlockMesh extrudeToFarfield(const geometry::PatchSet& set, const ExtrusionO
                      : "block " + std::to_string(p + 1);
         b.degree = {patch.degreeU, patch.degreeV, o.radialDegree};
         b.count = {patch.countU, patch.countV, nk};
-        b.knots = {patch.knotsU, patch.knotsV, nurbs::uniformKnots(o.radialDegree, nk)};
+        b.knots = {patch.knotsU, patch.knotsV, radialKnots};
         b.nodes.resize(static_cast<std::size_t>(patch.countU) * patch.countV * nk);
         for (int k = 0; k < nk; ++k) {
             for (int j = 0; j < patch.countV; ++j) {

@@ -306,19 +306,19 @@ TEST(Cli, FlowStopsKeepsItsStateAndResumesFromTheRestart) {
     EXPECT_NE(c.err.find("nodes in the file"), std::string::npos) << c.err;
     EXPECT_EQ(run("flow").code, 2);
     EXPECT_EQ(run("flow '" + partial + "' --restart").code, 2);
-    EXPECT_EQ(a.err.find("spacing jumps"), std::string::npos) << a.err;  // this grid is fine (4.4)
-    EXPECT_NEAR(ja["largest_spacing_jump"].get<double>(), 4.44, 0.01);
+    EXPECT_EQ(a.err.find("spacing jumps"), std::string::npos) << a.err;  // this grid is fine (1.7)
+    EXPECT_NEAR(ja["largest_spacing_jump"].get<double>(), 1.72, 0.01);
 }
 
-// A grid whose spacing jumps (the coarse level's thin wall cells at refine 0.5: the last radial
-// cell is 75 times its neighbour) is named in a warning before the solve, with block and node.
+// A grid whose spacing jumps (7 radial nodes from a wall spacing of 1e-4 to the farfield at 20
+// radii: every radial cell about 8.4 times its neighbour) is named in a warning before the solve, with block and node.
 TEST(Cli, FlowWarnsAboutASpacingJumpBeforeTheSolve) {
     const std::string steep = writeCase(
         "flow_steep.json",
-        R"("mesh": {"level": "coarse", "refine": 0.5, "grid_wall_spacing": 0.001}, "flow": {"max_iterations": 1}, "output": {"restart": "cli_flow_steep/state.restart"})");
+        R"("mesh": {"level": "coarse", "refine": 0.5, "grid_wall_spacing": 0.0001}, "flow": {"max_iterations": 1}, "output": {"restart": "cli_flow_steep/state.restart"})");
     const Result r = run("flow '" + steep + "' --json");
     EXPECT_EQ(r.code, 1) << r.err;  // one iteration: not converged
-    EXPECT_NE(r.err.find("warning: the grid spacing jumps by a factor 74.6 along k at block 8"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("warning: the grid spacing jumps by a factor 8.4 along k at block "), std::string::npos) << r.err;
     EXPECT_LT(r.err.find("spacing jumps"), r.err.find("iter    1")) << r.err;
-    EXPECT_NEAR(nlohmann::json::parse(r.out)["largest_spacing_jump"].get<double>(), 74.6, 0.05);
+    EXPECT_NEAR(nlohmann::json::parse(r.out)["largest_spacing_jump"].get<double>(), 8.45, 0.05);
 }

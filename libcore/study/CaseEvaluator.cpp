@@ -1,0 +1,441 @@
+#include "study/CaseEvaluator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "common/Error.h"
+#include "flow/Metrics.h"
+#include "flow/Residual.h"
+#include "mesh/Extrusion.h"
+
+namespace aero::study {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string format(const char* fmt, auto... args) {
+    char buf[1024];
+    std::snprintf(buf, sizeof buf, fmt, args...);
+    return buf;
+}
+
+double tidy(double x) { return std::abs(x) < 1e-12 ? 0.0 : x; }
+
+std::string describe(const FlowLocation& l) {
+    return format("block %d '%s' node (%d, %d, %d) at (%.4g, %.4g, %.4g), %s", l.block, l.blockName.c_str(), l.node[0],
+                  l.node[1], l.node[2], tidy(l.x[0]), tidy(l.x[1]), tidy(l.x[2]), l.boundary.c_str());
+}
+
+// The location of global flow node g: block, (i, j, k), coordinates and the faces it lies on.
+FlowLocation locate(const flow::FlowMesh& fm, const std::vector<double>& x, long g, double value) {
+    FlowLocation l;
+    l.value = value;
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        const flow::FlowBlock& blk = fm.blocks[b];
+        if (g < blk.offset || g >= blk.offset + blk.nodeCount()) continue;
+        l.block = static_cast<int>(b);
+        l.blockName = blk.name;
+        const auto idx = flow::nodeIndex(blk.dims, g - blk.offset);
+        l.node = idx;
+        std::string where;
+        for (int f = 0; f < 6; ++f) {
+            if (!flow::onFace(blk.dims, g - blk.offset, f)) continue;
+            const std::string kind = mesh::boundaryName(blk.faces[f].kind);
+            if (where.find(kind) == std::string::npos) where += (where.empty() ? "" : "/") + kind;
+        }
+        l.boundary = where.empty() ? "interior" : "on the " + where + " boundary";
+        break;
+    }
+    for (int c = 0; c < 3; ++c) l.x[c] = x[3 * g + c];
+    return l;
+}
+
+// The coarser sampling of the same analytic grid used by grid sequencing: half the intervals.
+mesh::ExtrusionOptions coarser(mesh::ExtrusionOptions o) {
+    o.refine *= 0.5;
+    return o;
+}
+
+}  // namespace
+
+const char* stageName(Stage s) {
+    switch (s) {
+        case Stage::Shape:
+            return "shape";
+        case Stage::Mesh:
+            return "mesh";
+        case Stage::Flow:
+            return "flow";
+    }
+    return "unknown";
+}
+
+const char* evaluationStatusName(EvaluationStatus s) {
+    switch (s) {
+        case EvaluationStatus::Ok:
+            return "ok";
+        case EvaluationStatus::InvalidShape:
+            return "invalid-shape";
+        case EvaluationStatus::InvalidMesh:
+            return "invalid-mesh";
+        case EvaluationStatus::FlowNotConverged:
+            return "flow-not-converged";
+        case EvaluationStatus::Cancelled:
+            return "cancelled";
+    }
+    return "unknown";
+}
+
+struct CaseEvaluator::Baseline {
+    mesh::MultiBlockMesh fine;                      // the case's level, extruded around the baseline
+    std::unique_ptr<mesh::MultiBlockMesh> coarse;   // half the grid intervals (sequencing), on demand
+};
+
+CaseEvaluator::CaseEvaluator(io::CaseFile c, geometry::PatchSet baseline, const Log& log)
+    : case_(std::move(c)), baseline_(std::move(baseline)), log_(log) {
+    if (case_.lattices.empty()) return;
+    model_ = std::make_unique<ffd::FfdModel>(io::buildModel(case_, baseline_));
+    const ffd::EmbeddingSummary& emb = model_->summary();
+    if (log_) {
+        log_(format("embedded %d of %d unique control points in %zu lattice(s), max error %.2e, %.3f s", emb.embedded,
+                    emb.unique, model_->lattices().size(), emb.maxError, emb.seconds));
+    }
+    if (!emb.failures.empty()) {
+        int outside = 0;
+        for (const auto& f : emb.failures) outside += f.outside ? 1 : 0;
+        if (log_) {
+            log_(format("%d control point(s) outside every lattice, %d not converged:", outside,
+                        static_cast<int>(emb.failures.size()) - outside));
+            for (std::size_t i = 0; i < emb.failures.size() && i < 10; ++i) {
+                const auto& f = emb.failures[i];
+                const double* x = &model_->index().points[3 * f.point];
+                log_(format("  control point (%.6g, %.6g, %.6g) of %s: %s, %.3e away", x[0], x[1], x[2],
+                            baseline_.describe(f.patch).c_str(), f.outside ? "outside" : "not converged", f.distance));
+            }
+            if (emb.failures.size() > 10) log_(format("  ... and %zu more", emb.failures.size() - 10));
+        }
+        if (!case_.allowOutside) {
+            throw GeometryError("'" + case_.path + "': " + std::to_string(emb.failures.size()) +
+                                " control point(s) could not be embedded (enlarge the lattice padding, or set "
+                                "embedding.allow_outside to keep them fixed)");
+        }
+    }
+    caseValues_ = io::designValues(case_, *model_);
+    (void)io::movedLattices(case_, *model_, caseValues_);  // checks the displacements (CaseError)
+}
+
+CaseEvaluator::~CaseEvaluator() = default;
+
+int CaseEvaluator::variableCount() const { return model_ ? model_->design().size() : 0; }
+
+const mesh::MultiBlockMesh& CaseEvaluator::baselineMesh() {
+    if (!mesh_) {
+        const auto t = std::chrono::steady_clock::now();
+        mesh_ = std::make_unique<Baseline>();
+        mesh_->fine = mesh::extrudeToFarfield(baseline_, case_.mesh.extrusion);
+        if (log_) {
+            log_(format("level '%s': %zu blocks, %d control nodes, %ld grid nodes (%.3f s)", case_.mesh.level.c_str(),
+                        mesh_->fine.blocks.size(), mesh_->fine.controlCount(), mesh_->fine.gridNodeCount(), since(t)));
+        }
+    }
+    return mesh_->fine;
+}
+
+void CaseEvaluator::evaluateShape(Evaluation& e) const {
+    const auto t = std::chrono::steady_clock::now();
+    if (!model_) {
+        e.shape = baseline_;
+        e.uniqueSurface = geometry::buildControlPointIndex(baseline_, 1e-10).points;
+        e.secondsShape = since(t);
+        return;
+    }
+    if (static_cast<int>(e.values.size()) != model_->design().size()) {
+        throw Error("evaluate: " + std::to_string(e.values.size()) + " design values for " +
+                    std::to_string(model_->design().size()) + " variables");
+    }
+    e.lattices = io::movedLattices(case_, *model_, e.values);
+    for (std::size_t l = 0; l < e.lattices.size(); ++l) {
+        const ffd::InjectivityReport r = ffd::checkInjectivity(e.lattices[l]);
+        e.injectivity.push_back(r);
+        if (!r.injective && e.status == EvaluationStatus::Ok) {
+            e.status = EvaluationStatus::InvalidShape;
+            e.message = format("lattice '%s' is not injective: det J changes sign near parameters (%.3f, %.3f, %.3f), "
+                               "world point (%.4g, %.4g, %.4g); the embedded geometry could self-intersect (move the "
+                               "lattice points there apart, or bound the design variables that cross them)",
+                               model_->lattices()[l].name.c_str(), r.minAt[0], r.minAt[1], r.minAt[2], r.minPoint[0],
+                               r.minPoint[1], r.minPoint[2]);
+        }
+    }
+    if (e.status == EvaluationStatus::Ok) {
+        e.uniqueSurface = model_->uniqueWith(e.lattices);
+        e.shape = model_->deformWith(e.lattices);
+    }
+    e.secondsShape = since(t);
+}
+
+void CaseEvaluator::evaluateMesh(Evaluation& e, const ProgressFn& progress, const std::atomic<bool>* cancel) {
+    auto say = [&](const std::string& s) {
+        if (progress) progress({Stage::Mesh, s, nullptr, false});
+    };
+    const auto t = std::chrono::steady_clock::now();
+    baselineMesh();
+    auto m = std::make_shared<MeshResult>();
+    m->control = mesh_->fine;
+    m->moved = model_ != nullptr;
+    if (m->moved) {
+        m->move = mesh::moveControlGrid(m->control, e.uniqueSurface, case_.mesh.elasticity, [&](int i, int n) {
+            say(format("elasticity increment %d/%d", i, n));
+        }, cancel);
+        say(format("moved the control grid: %d increments, %d PCG iterations, %d free DOFs, %.3f s",
+                   static_cast<int>(m->move.cgIterations.size()), m->move.totalIterations, m->move.freeDofs,
+                   m->move.seconds));
+        if (m->move.status == mesh::SolveStatus::Cancelled) {
+            e.status = EvaluationStatus::Cancelled;
+            e.message = "cancelled during the mesh movement";
+        } else if (m->move.status != mesh::SolveStatus::Converged) {
+            e.status = EvaluationStatus::InvalidMesh;
+            e.message = "the mesh movement did not converge: " + m->move.message;
+        }
+    }
+    if (e.status == EvaluationStatus::Ok) {
+        m->grids = mesh::regenerateAll(m->control);
+        std::vector<mesh::CellQuality> q;
+        for (const auto& g : m->grids) q.push_back(mesh::cellQuality(g));
+        m->quality = mesh::summarize(m->grids, q, 10);
+        m->spacingJump = mesh::largestSpacingJump(m->grids);
+        try {
+            mesh::requirePositiveJacobians(m->grids, q);
+        } catch (const GeometryError& err) {
+            e.status = EvaluationStatus::InvalidMesh;
+            e.message = std::string("the moved grid is folded: ") + err.what();
+        }
+        say(format("regenerated %ld grid nodes; min scaled Jacobian %.3f, max aspect ratio %.3g", m->control.gridNodeCount(),
+                   m->quality.scaledJacobian.min, m->quality.aspectRatio.max));
+    }
+    e.mesh = std::move(m);
+    e.secondsMesh = since(t);
+}
+
+void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
+                                 const std::atomic<bool>* cancel) {
+    const auto t = std::chrono::steady_clock::now();
+    auto say = [&](const std::string& s) {
+        if (progress) progress({Stage::Flow, s, nullptr, false});
+    };
+    const MeshResult& m = *e.mesh;
+    auto f = std::make_shared<FlowResult>();
+    f->mesh = flow::makeFlowMesh(m.control, m.grids);
+    f->x = flow::gatherCoordinates(f->mesh, m.grids);
+    f->metrics = flow::computeMetrics(f->mesh, f->x);
+    const flow::VolumeCheck vol = flow::checkVolumes(f->mesh, f->metrics);
+    flow::ResidualOptions& ro = f->residualOptions;
+    ro.freeStream = case_.flow.freeStream;
+    ro.dissipation = case_.flow.dissipation;
+    ro.scheme = case_.flow.scheme;
+    e.flow = f;
+    if (vol.minJinv <= 0) {
+        const auto idx = flow::nodeIndex(f->mesh.blocks[vol.block].dims, vol.node);
+        e.status = EvaluationStatus::InvalidMesh;
+        e.message = format("the grid's metric volume is %.3g (not positive) at block %d '%s' node (%d, %d, %d)",
+                           vol.minJinv, vol.block, f->mesh.blocks[vol.block].name.c_str(), idx[0], idx[1], idx[2]);
+        e.secondsFlow = since(t);
+        return;
+    }
+    say(format("flow grid: %zu blocks, %ld nodes, %zu interface patches", f->mesh.blocks.size(), f->mesh.nodeCount,
+               f->mesh.interfaces.size()));
+
+    flow::NewtonOptions no = case_.flow.newton;
+    const long n = 5 * f->mesh.nodeCount;
+    // Relative tolerances always refer to the free stream's residual on this grid, so a warm or
+    // sequenced start converges to the same absolute level as a cold one.
+    std::vector<double> q = flow::freeStreamState(f->mesh, ro.freeStream);
+    {
+        std::vector<double> r(n);
+        flow::residual(f->mesh, f->metrics.data(), q.data(), ro, r.data());
+        double s = 0;
+        for (double v : r) s += v * v;
+        no.referenceResidual = std::sqrt(s);
+    }
+    auto onIteration = [&](bool coarse) {
+        return [&, coarse](const flow::FlowIteration& it) {
+            if (progress) progress({Stage::Flow, "", &it, coarse});
+        };
+    };
+    if (request.start && !request.start->state.empty()) {
+        if (static_cast<long>(request.start->state.size()) != n) {
+            throw Error("evaluate: the initial flow state has " + std::to_string(request.start->state.size() / 5) +
+                        " nodes, the grid " + std::to_string(f->mesh.nodeCount));
+        }
+        q = request.start->state;
+        if (request.start->referenceResidual > 0) no.referenceResidual = request.start->referenceResidual;
+        if (request.start->cflBase > 0) no.cfl0 = request.start->cflBase;
+        if (request.start->lumping > 0) ro.dissipation.lumping = std::max(ro.dissipation.lumping, request.start->lumping);
+    } else if (request.warmStart && static_cast<long>(warm_.size()) == n) {
+        q = warm_;
+        f->warmStarted = true;
+        say("warm start from the last converged state");
+    } else if (request.sequencing && mesh_) {
+        // Grid sequencing: the same analytic grid with half the intervals, solved loosely, then
+        // interpolated in parameter space.
+        if (!mesh_->coarse) {
+            mesh_->coarse = std::make_unique<mesh::MultiBlockMesh>(mesh::extrudeToFarfield(baseline_, coarser(case_.mesh.extrusion)));
+        }
+        mesh::MultiBlockMesh cm = *mesh_->coarse;
+        cm.control = m.control.control;
+        const std::vector<mesh::StructuredGrid> cg = mesh::regenerateAll(cm);
+        const flow::FlowMesh cfm = flow::makeFlowMesh(cm, cg);
+        const std::vector<double> cx = flow::gatherCoordinates(cfm, cg);
+        const std::vector<double> cmet = flow::computeMetrics(cfm, cx);
+        flow::NewtonOptions cno = case_.flow.newton;
+        cno.relativeTolerance = std::max(cno.relativeTolerance, 1e-4);
+        std::vector<double> cq;
+        f->coarseNodes = cfm.nodeCount;
+        say(format("grid sequencing: first on %ld nodes (half the intervals)", cfm.nodeCount));
+        f->coarseReport = flow::solveFlow(cfm, cmet, ro, cq, cno, onIteration(true), cancel);
+        if (f->coarseReport.status == flow::FlowStatus::Cancelled) {
+            e.status = EvaluationStatus::Cancelled;
+            e.message = "cancelled during the grid-sequencing pre-solve";
+            e.secondsFlow = since(t);
+            return;
+        }
+        if (f->coarseReport.converged()) {
+            q = prolongState(cm, cfm, cq, m.control, f->mesh);
+            no.cfl0 = std::max(no.cfl0, 10.0 * case_.flow.newton.cfl0);
+        } else {
+            say("the coarse solve did not converge (" + f->coarseReport.message + "): starting from the free stream");
+        }
+    }
+    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel);
+    f->q = std::move(q);
+
+    // Functionals and the fields a user checks the answer against.
+    f->forces = flow::integrateForces(f->mesh, f->metrics, f->x, f->q, ro.freeStream, case_.flow.reference);
+    const std::vector<double> s = flow::entropy(f->mesh, f->q, ro.freeStream);
+    const std::vector<double> mach = flow::machNumber(f->mesh, f->q, ro.freeStream.gamma);
+    long im = 0, is = 0;
+    for (long i = 0; i < f->mesh.nodeCount; ++i) {
+        if (mach[i] > mach[im]) im = i;
+        if (std::abs(s[i]) > std::abs(s[is])) is = i;
+    }
+    f->maxMach = locate(f->mesh, f->x, im, mach[im]);
+    f->maxEntropy = locate(f->mesh, f->x, is, s[is]);
+    {
+        std::vector<double> r(n);
+        flow::residual(f->mesh, f->metrics.data(), f->q.data(), ro, r.data());
+        long ir = 0;
+        double worst = -1;
+        for (long i = 0; i < f->mesh.nodeCount; ++i) {
+            double v = 0;
+            for (int k = 0; k < 5; ++k) v = std::max(v, std::abs(r[5 * i + k]));
+            v /= f->metrics[flow::kMetricWidth * i + 9];
+            if (v > worst) {
+                worst = v;
+                ir = i;
+            }
+        }
+        f->largestResidual = locate(f->mesh, f->x, ir, worst);
+    }
+
+    if (f->report.status == flow::FlowStatus::Cancelled) {
+        e.status = EvaluationStatus::Cancelled;
+        e.message = f->report.message;
+    } else if (!f->report.converged()) {
+        e.status = EvaluationStatus::FlowNotConverged;
+        std::string why = f->report.message + "; the largest residual per volume (" + format("%.3g", f->largestResidual.value) +
+                          ") is at " + describe(f->largestResidual);
+        if (m.spacingJump.ratio > 8.0) {
+            why += format("; the grid spacing jumps by a factor %.1f at block %d '%s' node (%d, %d, %d) (a finer level, a higher "
+                          "mesh.refine or a larger grid_wall_spacing reduces it)",
+                          m.spacingJump.ratio, m.spacingJump.block, m.spacingJump.blockName.c_str(), m.spacingJump.node[0],
+                          m.spacingJump.node[1], m.spacingJump.node[2]);
+        }
+        if (f->maxMach.value > 1.0) {
+            why += format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
+        }
+        e.message = why;
+    } else {
+        warm_ = f->q;
+    }
+    e.secondsFlow = since(t);
+}
+
+Evaluation CaseEvaluator::evaluate(const std::vector<double>& v, const EvaluationRequest& request,
+                                   const ProgressFn& progress, const std::atomic<bool>* cancel) {
+    Evaluation e;
+    e.values = v;
+    evaluateShape(e);
+    if (!e.ok()) return e;
+    const bool wantFlow = request.flow && case_.flow.present;
+    if (!(request.mesh || wantFlow)) return e;
+    if (cancel && cancel->load()) {
+        e.status = EvaluationStatus::Cancelled;
+        e.message = "cancelled before the mesh stage";
+        return e;
+    }
+    evaluateMesh(e, progress, cancel);
+    if (!e.ok() || !wantFlow) return e;
+    if (cancel && cancel->load()) {
+        e.status = EvaluationStatus::Cancelled;
+        e.message = "cancelled before the flow stage";
+        return e;
+    }
+    evaluateFlow(e, request, progress, cancel);
+    return e;
+}
+
+std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow::FlowMesh& coarseFlow,
+                                 const std::vector<double>& q, const mesh::MultiBlockMesh& fine,
+                                 const flow::FlowMesh& fineFlow) {
+    if (coarse.blocks.size() != fine.blocks.size() || coarseFlow.blocks.size() != coarse.blocks.size() ||
+        fineFlow.blocks.size() != fine.blocks.size()) {
+        throw Error("prolongState: the two meshes have different blocks");
+    }
+    std::vector<double> out(5 * static_cast<std::size_t>(fineFlow.nodeCount));
+    for (std::size_t b = 0; b < fine.blocks.size(); ++b) {
+        const auto& cs = coarse.blocks[b].samples;
+        const auto& fs = fine.blocks[b].samples;
+        const flow::FlowBlock& cb = coarseFlow.blocks[b];
+        const flow::FlowBlock& fb = fineFlow.blocks[b];
+        // Per direction: for every fine sample, the coarse interval and the weight of its upper end.
+        std::array<std::vector<int>, 3> lo;
+        std::array<std::vector<double>, 3> w;
+        for (int d = 0; d < 3; ++d) {
+            const int nc = static_cast<int>(cs[d].size());
+            lo[d].resize(fs[d].size());
+            w[d].resize(fs[d].size());
+            for (std::size_t i = 0; i < fs[d].size(); ++i) {
+                const double u = fs[d][i];
+                int a = static_cast<int>(std::upper_bound(cs[d].begin(), cs[d].end(), u) - cs[d].begin()) - 1;
+                a = std::clamp(a, 0, nc - 2);
+                const double h = cs[d][a + 1] - cs[d][a];
+                lo[d][i] = a;
+                w[d][i] = h > 0 ? std::clamp((u - cs[d][a]) / h, 0.0, 1.0) : 0.0;
+            }
+        }
+        const long cni = cb.dims[0], cnj = cb.dims[1];
+#pragma omp parallel for schedule(static)
+        for (int k = 0; k < fb.dims[2]; ++k) {
+            for (int j = 0; j < fb.dims[1]; ++j) {
+                for (int i = 0; i < fb.dims[0]; ++i) {
+                    double* o = &out[5 * (fb.offset + i + static_cast<long>(fb.dims[0]) * (j + static_cast<long>(fb.dims[1]) * k))];
+                    for (int v = 0; v < 5; ++v) o[v] = 0.0;
+                    for (int c = 0; c < 8; ++c) {
+                        const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+                        const double wt = (di ? w[0][i] : 1 - w[0][i]) * (dj ? w[1][j] : 1 - w[1][j]) * (dk ? w[2][k] : 1 - w[2][k]);
+                        if (wt == 0.0) continue;
+                        const long cn = cb.offset + (lo[0][i] + di) + cni * ((lo[1][j] + dj) + cnj * (lo[2][k] + dk));
+                        for (int v = 0; v < 5; ++v) o[v] += wt * q[5 * cn + v];
+                    }
+                }
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace aero::study

@@ -1,0 +1,173 @@
+#pragma once
+// One case evaluated at any design: the function evaluation that the CLI (deform, mesh, flow,
+// sweep, --batch), the GUI and the optimizer call (docs/architecture.md, "One pipeline").
+//
+// Built once from a case and its loaded geometry: the FFD model (lattices embedded once), the
+// case's design values, and (on first use) the baseline control grid extruded around the
+// baseline geometry. evaluate(v) then runs the stages
+//   shape: B(v) + displacements -> injectivity -> deformed geometry A(v)
+//   mesh:  the baseline control grid moved by elasticity to A(v) -> grid x = N b -> quality
+//   flow:  metrics -> Euler solution (warm-started from the last converged state on the same grid,
+//          or grid-sequenced from a coarser sampling of the same analytic grid) -> forces
+// with progress and cancellation at every stage. A design nobody has looked at may fail: the
+// result is a status with the reason in terms a user can act on (which lattice, block, node or
+// quantity), never an exception (exceptions are for a bad case, at construction).
+#include <array>
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ffd/Injectivity.h"
+#include "flow/FlowMesh.h"
+#include "flow/FlowSolver.h"
+#include "flow/Outputs.h"
+#include "io/CaseFile.h"
+#include "mesh/Elasticity.h"
+#include "mesh/Quality.h"
+#include "study/CaseShape.h"
+
+namespace aero::study {
+
+enum class Stage { Shape, Mesh, Flow };
+const char* stageName(Stage s);
+
+/// What a running evaluation reports: the stage, a line for a human, and the flow iteration
+/// (non-null during the flow stage, after every iteration or rejected attempt).
+struct Progress {
+    Stage stage = Stage::Shape;
+    std::string message;
+    const flow::FlowIteration* iteration = nullptr;
+    bool coarse = false;  // the iteration belongs to the grid-sequencing pre-solve
+};
+using ProgressFn = std::function<void(const Progress&)>;
+
+enum class EvaluationStatus {
+    Ok,
+    InvalidShape,      // a moved lattice is not injective (the geometry could self-intersect)
+    InvalidMesh,       // the moved grid has a folded cell, or the mesh movement did not converge
+    FlowNotConverged,  // the flow solver stopped without converging (reason in the message)
+    Cancelled,
+};
+const char* evaluationStatusName(EvaluationStatus s);
+
+/// Where a flow starts: the free stream, the evaluator's last converged state (warm start), a
+/// given state (a restart), or a solve on a coarser sampling of the same grid (sequencing).
+struct FlowStart {
+    std::vector<double> state;        // non-empty: start here (5 per node of this grid)
+    double referenceResidual = 0;     // > 0: the run this one continues (restart)
+    double cflBase = 0;               // > 0: the CFL law's base to continue with
+    double lumping = 0;               // > 0: the preconditioner's lumping to continue with
+};
+
+struct EvaluationRequest {
+    bool mesh = true;        // run the mesh stage (the flow stage needs it)
+    bool flow = true;        // run the flow stage (if the case has a flow section)
+    bool warmStart = true;   // start from the last converged flow on the same grid
+    bool sequencing = false; // without a warm start: first solve on half the grid intervals
+    std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
+};
+
+struct MeshResult {
+    mesh::MultiBlockMesh control;            // the moved control grid
+    std::vector<mesh::StructuredGrid> grids; // x = N b, one per block
+    mesh::MoveReport move;                   // empty when the shape is the baseline
+    bool moved = false;
+    mesh::QualitySummary quality;
+    mesh::SpacingJump spacingJump;
+};
+
+/// A node of the flow grid, located for a human.
+struct FlowLocation {
+    int block = -1;
+    std::string blockName;
+    std::array<int, 3> node{0, 0, 0};
+    std::array<double, 3> x{0, 0, 0};
+    double value = 0;
+    std::string boundary;  // "wall", "symmetry", "farfield", "interface", combinations, or "interior"
+};
+
+struct FlowResult {
+    flow::FlowMesh mesh;
+    std::vector<double> x, metrics, q;      // coordinates, metrics, state (global node order)
+    flow::ResidualOptions residualOptions;  // what was solved
+    flow::FlowReport report;
+    flow::FlowReport coarseReport;          // the sequencing pre-solve (empty if none)
+    long coarseNodes = 0;
+    bool warmStarted = false;
+    flow::ForceCoefficients forces;
+    FlowLocation maxMach, maxEntropy;       // largest local Mach number, largest |s - s_inf|
+    FlowLocation largestResidual;           // largest |R| per unit volume at the final state
+};
+
+struct Evaluation {
+    EvaluationStatus status = EvaluationStatus::Ok;
+    std::string message;  // the reason, when not Ok
+    bool ok() const { return status == EvaluationStatus::Ok; }
+    std::vector<double> values;  // the design evaluated
+    // Shape stage (always run).
+    std::vector<ffd::Lattice> lattices;                // moved lattices, one per case lattice
+    std::vector<ffd::InjectivityReport> injectivity;   // one per lattice
+    geometry::PatchSet shape;                          // the deformed geometry
+    std::vector<double> uniqueSurface;                 // its unique control points, 3 each
+    // Mesh and flow stages (empty when not run).
+    std::shared_ptr<MeshResult> mesh;
+    std::shared_ptr<FlowResult> flow;
+    double secondsShape = 0, secondsMesh = 0, secondsFlow = 0;
+};
+
+class CaseEvaluator {
+public:
+    /// Builds the FFD model around `baseline` (the case's geometry, loaded by the caller) and
+    /// reads the case's design values. Throws GeometryError when control points cannot be
+    /// embedded (unless the case allows it) and CaseError for bad values, naming the case.
+    CaseEvaluator(io::CaseFile c, geometry::PatchSet baseline, const Log& log = {});
+    ~CaseEvaluator();
+    CaseEvaluator(const CaseEvaluator&) = delete;
+    CaseEvaluator& operator=(const CaseEvaluator&) = delete;
+
+    const io::CaseFile& caseFile() const { return case_; }
+    const geometry::PatchSet& baseline() const { return baseline_; }
+    /// The first FFD level; null when the case has no lattices (then the design is empty).
+    const ffd::FfdModel* model() const { return model_.get(); }
+    int variableCount() const;
+    /// The case's own design values (its "values", baseline elsewhere).
+    const std::vector<double>& caseValues() const { return caseValues_; }
+    /// The baseline control grid and its grid (extruded on first use, then kept).
+    const mesh::MultiBlockMesh& baselineMesh();
+
+    /// Runs the stages for design v (variableCount() values). Never throws for a bad design:
+    /// see Evaluation::status. `cancel` is checked between stages, increments and iterations.
+    Evaluation evaluate(const std::vector<double>& v, const EvaluationRequest& request = {},
+                        const ProgressFn& progress = {}, const std::atomic<bool>* cancel = nullptr);
+
+    /// The last converged flow state and its grid size (empty before the first).
+    const std::vector<double>& lastConvergedState() const { return warm_; }
+    void forgetWarmStart() { warm_.clear(); }
+
+private:
+    struct Baseline;
+    void evaluateShape(Evaluation& e) const;
+    void evaluateMesh(Evaluation& e, const ProgressFn& progress, const std::atomic<bool>* cancel);
+    void evaluateFlow(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
+                      const std::atomic<bool>* cancel);
+
+    io::CaseFile case_;
+    geometry::PatchSet baseline_;
+    std::unique_ptr<ffd::FfdModel> model_;
+    std::vector<double> caseValues_;
+    std::unique_ptr<Baseline> mesh_;      // extruded baseline (and its coarser sampling)
+    std::vector<double> warm_;            // last converged flow state
+    Log log_;
+};
+
+/// Samples the flow state q of `coarse` (a sampling of the same B-spline blocks at fewer
+/// parameters) at the grid parameters of `fine` by trilinear interpolation in parameter space:
+/// the initial state of a grid-sequenced solve. Both meshes must have the same blocks.
+std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow::FlowMesh& coarseFlow,
+                                 const std::vector<double>& q, const mesh::MultiBlockMesh& fine,
+                                 const flow::FlowMesh& fineFlow);
+
+}  // namespace aero::study
