@@ -12,12 +12,14 @@ ExtrusionOptions extrusionLevel(const std::string& name) {
     ExtrusionOptions o;
     if (name == "coarse") return o;
     if (name == "medium") {
+        o.gridWallSpacing = 1e-3;
         o.radialControlPoints = 18;
         o.surfaceNodes = 23;
         o.radialNodes = 29;
         return o;
     }
     if (name == "paper") {
+        o.gridWallSpacing = 1e-3;
         o.radialControlPoints = 26;
         o.surfaceNodes = 31;
         o.radialNodes = 47;

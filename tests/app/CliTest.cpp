@@ -215,7 +215,7 @@ TEST(Cli, MeshTheBlendedWingSampleGivesAValidGrid) {
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["blocks"], 20);
     EXPECT_EQ(j["control_nodes"], 521 * 12);
-    EXPECT_EQ(j["grid_nodes"], 20 * 17 * 17 * 13);
+    EXPECT_EQ(j["grid_nodes"], 20 * 17 * 17 * 17);
     EXPECT_EQ(j["increments"], 6);
     EXPECT_GT(j["cg_iterations"].get<int>(), 0);
     EXPECT_GT(j["min_jacobian"].get<double>(), 0.0);
@@ -233,7 +233,7 @@ TEST(Cli, MeshWithoutDeformationAndBatchMode) {
     ASSERT_EQ(r.code, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_FALSE(j["deformed"].get<bool>());
-    EXPECT_EQ(j["grid_nodes"], 20 * 9 * 9 * 7);  // half the intervals of the coarse level
+    EXPECT_EQ(j["grid_nodes"], 20 * 9 * 9 * 9);  // half the intervals of the coarse level
     EXPECT_EQ(run("mesh '" + writeCase("bad_mesh.json", R"("mesh": {"level": "gigantic"})") + "'").code, 1);
     EXPECT_EQ(run("mesh '" + writeCase("bad_mesh2.json", R"("mesh": {"poisson": 0.5})") + "'").code, 1);
 }
@@ -249,7 +249,7 @@ TEST(Cli, FitAPlot3dGridReproducesTheAnalyticGrid) {
     ASSERT_EQ(r.code, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["blocks"].size(), 20u);
-    EXPECT_EQ(j["grid_nodes"], 20 * 17 * 17 * 13);
+    EXPECT_EQ(j["grid_nodes"], 20 * 17 * 17 * 17);
     EXPECT_LT(j["max_error"].get<double>(), 2e-3);  // measured 6.9e-4 (radius-20 domain): chord-length vs the generator's parameters
     EXPECT_TRUE(std::filesystem::exists(outputPath("cli_fit/refit.xyz")));
     EXPECT_EQ(run("fit '" + outputPath("cli_fit/grid.xyz") + "' --counts 6,6").code, 2);
@@ -271,7 +271,7 @@ TEST(Cli, FlowStopsKeepsItsStateAndResumesFromTheRestart) {
     EXPECT_FALSE(ja["converged"].get<bool>());
     EXPECT_EQ(ja["status"], "max-iterations");
     EXPECT_EQ(ja["newton_iterations"], 6);
-    EXPECT_EQ(ja["grid_nodes"], 11340);
+    EXPECT_EQ(ja["grid_nodes"], 14580);
     for (const char* key : {"orders_reduced", "linear_iterations", "CL", "CD", "CM", "seconds", "peak_memory_mb"}) {
         EXPECT_TRUE(ja.contains(key)) << key;
     }
@@ -306,19 +306,19 @@ TEST(Cli, FlowStopsKeepsItsStateAndResumesFromTheRestart) {
     EXPECT_NE(c.err.find("nodes in the file"), std::string::npos) << c.err;
     EXPECT_EQ(run("flow").code, 2);
     EXPECT_EQ(run("flow '" + partial + "' --restart").code, 2);
-    EXPECT_EQ(a.err.find("spacing jumps"), std::string::npos) << a.err;  // this grid is fine (1.7)
-    EXPECT_NEAR(ja["largest_spacing_jump"].get<double>(), 1.72, 0.01);
+    EXPECT_EQ(a.err.find("spacing jumps"), std::string::npos) << a.err;  // this grid is fine (1.4)
+    EXPECT_NEAR(ja["largest_spacing_jump"].get<double>(), 1.42, 0.01);
 }
 
-// A grid whose spacing jumps (7 radial nodes from a wall spacing of 1e-4 to the farfield at 20
-// radii: every radial cell about 8.4 times its neighbour) is named in a warning before the solve, with block and node.
+// A grid whose spacing jumps (5 radial nodes from a wall spacing of 1e-4 to the farfield at 20
+// radii: the radial cells grow about 30 times from one to the next) is named in a warning before the solve, with block and node.
 TEST(Cli, FlowWarnsAboutASpacingJumpBeforeTheSolve) {
     const std::string steep = writeCase(
         "flow_steep.json",
-        R"("mesh": {"level": "coarse", "refine": 0.5, "grid_wall_spacing": 0.0001}, "flow": {"max_iterations": 1}, "output": {"restart": "cli_flow_steep/state.restart"})");
+        R"("mesh": {"level": "coarse", "refine": 0.5, "radial_nodes": 9, "grid_wall_spacing": 0.0001}, "flow": {"max_iterations": 1}, "output": {"restart": "cli_flow_steep/state.restart"})");
     const Result r = run("flow '" + steep + "' --json");
     EXPECT_EQ(r.code, 1) << r.err;  // one iteration: not converged
-    EXPECT_NE(r.err.find("warning: the grid spacing jumps by a factor 8.4 along k at block "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("warning: the grid spacing jumps by a factor 30.5 along k at block "), std::string::npos) << r.err;
     EXPECT_LT(r.err.find("spacing jumps"), r.err.find("iter    1")) << r.err;
-    EXPECT_NEAR(nlohmann::json::parse(r.out)["largest_spacing_jump"].get<double>(), 8.45, 0.05);
+    EXPECT_NEAR(nlohmann::json::parse(r.out)["largest_spacing_jump"].get<double>(), 30.46, 0.05);
 }

@@ -1,6 +1,6 @@
 // Qt Test of Mesh > Preview on the half-sphere sample with the paper's lattice: the job runs on
 // the worker thread and ends with the coarse grid of the CLI (20 blocks, 6,252 control nodes,
-// 75,140 grid nodes) and positive Jacobians, also after a lattice point moved; cancelling
+// 98,260 grid nodes) and positive Jacobians, also after a lattice point moved; cancelling
 // leaves a usable window; a worst-cell row flies the camera to the cell; edits make the
 // preview outdated (and undo brings it back); tangled cells are reported and marked; the grid
 // exports to VTK and Plot3D. Screenshots go to the build tree (tests/ui/screenshots/).
@@ -152,7 +152,7 @@ void MeshPreviewTest::previewOfThePapersLatticeHasPositiveJacobians() {
     QCOMPARE(r->level, std::string("coarse"));
     QCOMPARE(r->grids.size(), std::size_t{20});
     QCOMPARE(r->mesh.controlCount(), 6252);
-    QCOMPARE(r->gridNodes(), 75140L);
+    QCOMPARE(r->gridNodes(), 98260L);
     QVERIFY2(!r->moved, "the paper's lattice at its baseline values does not move the wall");
     qInfo("coarse preview: min Jacobian %.3e, min scaled Jacobian %.3f, %.2f s",
           r->summary.minJacobian.min, r->summary.scaledJacobian.min, r->seconds);
@@ -169,7 +169,7 @@ void MeshPreviewTest::previewOfThePapersLatticeHasPositiveJacobians() {
              "the geometry's surfaces stay under the grid's wall");
     const QString gridText = window_->modelTree().gridItem()->text(0);
     QVERIFY2(gridText.contains(QStringLiteral("20 blocks")), qPrintable(gridText));
-    QVERIFY(window_->modelTree().gridItem()->toolTip(0).contains(QLocale().toString(75140)));
+    QVERIFY(window_->modelTree().gridItem()->toolTip(0).contains(QLocale().toString(98260)));
     QVERIFY(!window_->modelTree().gridPartItem(aero::ui::ModelTree::WallPart)->isDisabled());
     QVERIFY2(panel().statusText().contains(QStringLiteral("20 blocks")),
              qPrintable(panel().statusText()));
@@ -216,7 +216,7 @@ void MeshPreviewTest::metricAndSliceChangeThePicture() {
     // Moving the slice slider shows the slice at that layer.
     aero::ui::ModelTree& tree = window_->modelTree();
     QVERIFY(!tree.gridPartShown(aero::ui::ModelTree::SlicePart));
-    QCOMPARE(window_->meshScene().sliceLayers(), 12);
+    QCOMPARE(window_->meshScene().sliceLayers(), 16);
     panel().sliceSlider()->setValue(4);
     QCOMPARE(window_->meshScene().slice(), 4);
     QVERIFY(tree.gridPartShown(aero::ui::ModelTree::SlicePart));
@@ -302,7 +302,7 @@ void MeshPreviewTest::movedLatticePointIsFollowedByTheGrid() {
     QVERIFY(r->moved);
     QCOMPARE(r->move.cgIterations.size(), std::size_t{6});
     QCOMPARE(r->mesh.controlCount(), 6252);
-    QCOMPARE(r->gridNodes(), 75140L);
+    QCOMPARE(r->gridNodes(), 98260L);
     qInfo("moved preview: min Jacobian %.3e, %d PCG iterations, %.2f s", r->summary.minJacobian.min,
           r->move.totalIterations, r->seconds);
     QVERIFY(r->summary.minJacobian.min > 0);
@@ -372,7 +372,7 @@ void MeshPreviewTest::exportWritesVtkAndPlot3d() {
     QCOMPARE(blocks.size(), std::size_t{20});
     long nodes = 0;
     for (const auto& b : blocks) nodes += b.nodeCount();
-    QCOMPARE(nodes, 75140L);
+    QCOMPARE(nodes, 98260L);
     QVERIFY(blocks[0].xyz == previewer().result()->grids[0].xyz);  // binary: bitwise
 }
 
