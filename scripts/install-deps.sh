@@ -7,7 +7,7 @@ packages=(
   qt6-base-dev libqt6opengl6-dev qt6-charts-dev libvtk9-dev libeigen3-dev
   libocct-data-exchange-dev libocct-modeling-algorithms-dev
   libnlopt-cxx-dev coinor-libipopt-dev nlohmann-json3-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev libsuitesparse-dev
   xvfb xauth libgl1-mesa-dri
 )
 missing=()

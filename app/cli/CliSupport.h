@@ -50,6 +50,7 @@ int cmdDeform(const Args& args);
 int cmdMesh(const Args& args);
 int cmdFit(const Args& args);
 int cmdFlow(const Args& args);
+int cmdSweep(const Args& args);
 /// The deform command's work for a case file (also `aeroform --batch CASE`).
 int runDeform(const std::string& casePath, bool json, bool list);
 /// The mesh command's work (also `aeroform --batch CASE` for cases with a "mesh" section).

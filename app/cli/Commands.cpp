@@ -202,6 +202,7 @@ const char* kMainHelp =
     "  deform CASE [--json]           embed in FFD lattices, deform, check, write IGES + VTK\n"
     "  mesh CASE [--json]             B-spline volume grid, elasticity move, quality, VTK/Plot3D\n"
     "  flow CASE [--json]             deform, grid, Euler solution: forces, Cp/Mach/entropy VTK\n"
+    "  sweep CASE [--random N]        the flow over the design space: scaled and random designs\n"
     "  fit GRID.xyz [--json]          fit B-spline volumes to your own Plot3D grid, report errors\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
@@ -236,6 +237,7 @@ int runCli(int argc, char** argv) {
     if (cmd == "mesh") return cmdMesh(args);
     if (cmd == "fit") return cmdFit(args);
     if (cmd == "flow") return cmdFlow(args);
+    if (cmd == "sweep") return cmdSweep(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }
@@ -245,10 +247,17 @@ int runBatch(const std::string& path) {
     if (io::looksLikeCase(path)) {
         std::fprintf(stderr, "[batch] case %s\n", path.c_str());
         // The deepest stage the case asks for: a flow section runs the flow solver (on the mesh
-        // section's grid), a mesh section the mesh level.
-        const io::CaseFile c = io::readCase(path);
-        if (c.flow.present) return runFlow(path, "", false);
-        return c.mesh.present ? runMesh(path, false) : runDeform(path, false, false);
+        // section's grid), a mesh section the mesh level. A bad case is an error like in the CLI
+        // (exit 1 with the message), not an uncaught exception.
+        int stage = 0;
+        const int code = guarded("batch", [&] {
+            const io::CaseFile c = io::readCase(path);
+            stage = c.flow.present ? 2 : (c.mesh.present ? 1 : 0);
+            return kOk;
+        });
+        if (code != kOk) return code;
+        if (stage == 2) return runFlow(path, "", false);
+        return stage == 1 ? runMesh(path, false) : runDeform(path, false, false);
     }
     return guarded("batch", [&] {
         const auto t0 = std::chrono::steady_clock::now();

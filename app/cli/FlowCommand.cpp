@@ -22,7 +22,8 @@
 #include "flow/Outputs.h"
 #include "io/FlowFiles.h"
 #include "mesh/Quality.h"
-#include "study/CaseGrid.h"
+#include "study/CaseEvaluator.h"
+#include "study/GeometryFiles.h"
 
 namespace aero::app {
 
@@ -62,10 +63,6 @@ std::string defaultRestartPath(const std::string& casePath) {
     return (p.parent_path() / (p.stem().string() + ".restart")).string();
 }
 
-// Largest ratio of neighbouring grid spacings accepted without a warning: the medium and paper
-// half-sphere levels (4.7 and 3.0, their last radial cell) converge; the coarse level with wall
-// spacing 1e-3 (18.5) stalls.
-constexpr double kSpacingJumpWarning = 8.0;
 
 // A coordinate for a message: round-off around zero (a node on a symmetry plane) printed as 0.
 double tidy(double x) { return std::abs(x) < 1e-12 ? 0.0 : x; }
@@ -77,126 +74,79 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         const auto t0 = std::chrono::steady_clock::now();
         const io::CaseFile c = io::readCase(casePath);
         if (!c.flow.present) say("the case has no \"flow\" section: Mach 0.5, alpha 0 and the default solver options");
-        const geometry::PatchSet set = loadPatchSet(c.geometry);
+        geometry::PatchSet set = study::loadGeometry(c.geometry);
         say("geometry " + c.geometry + ": " + std::to_string(set.size()) + " patches");
-        const study::CaseShape shape = study::deformCase(c, set, say);
-        const study::CaseGrid cg = study::buildCaseGrid(c, set, shape, say);
+        io::CaseFile run = c;
+        run.flow.present = true;  // the flow command solves the flow even without a flow section
+        study::CaseEvaluator ev(run, std::move(set), say);
 
-        std::vector<mesh::CellQuality> quality;
-        for (const auto& g : cg.grids) quality.push_back(mesh::cellQuality(g));
-        mesh::requirePositiveJacobians(cg.grids, quality);  // throws naming block and cell
-        // Central differences lose their accuracy across a sudden change of spacing, and a flow
-        // solve on such a grid tends to stall there (docs/validation.md): say so before it starts.
-        const mesh::SpacingJump jump = mesh::largestSpacingJump(cg.grids);
-        const bool steepJump = jump.ratio > kSpacingJumpWarning;
-        if (steepJump) {
-            char w[512];
-            std::snprintf(w, sizeof w,
-                          "warning: the grid spacing jumps by a factor %.1f along %c at block %d '%s' node (%d, %d, %d) "
-                          "(x %.3g, %.3g, %.3g); central differences are poor there and the flow may stall "
-                          "(a finer level, a higher mesh.refine or a larger grid_wall_spacing reduces it)",
-                          jump.ratio, "ijk"[jump.direction], jump.block, jump.blockName.c_str(), jump.node[0], jump.node[1],
-                          jump.node[2], tidy(jump.x[0]), tidy(jump.x[1]), tidy(jump.x[2]));
-            say(w);
-        }
-
-        auto t = std::chrono::steady_clock::now();
-        const flow::FlowMesh fm = flow::makeFlowMesh(cg.mesh, cg.grids);
-        const std::vector<double> x = flow::gatherCoordinates(fm, cg.grids);
-        const std::vector<double> metrics = flow::computeMetrics(fm, x);
-        char buf[512];
-        std::snprintf(buf, sizeof buf, "flow grid: %zu blocks, %ld nodes, %zu interface patches, metrics in %.3f s",
-                      fm.blocks.size(), fm.nodeCount, fm.interfaces.size(), since(t));
-        say(buf);
-
-        flow::ResidualOptions ro;
-        ro.freeStream = c.flow.freeStream;
-        ro.dissipation = c.flow.dissipation;
-        ro.scheme = c.flow.scheme;
-        flow::NewtonOptions no = c.flow.newton;
-        if (const char* e = std::getenv("AERO_CFLINC")) no.cflMaxIncrease = std::atof(e);  // EXPERIMENT
-        if (const char* e = std::getenv("AERO_GMRES")) no.gmresMaxIterations = std::atoi(e);  // EXPERIMENT
-        if (const char* e = std::getenv("AERO_FILL")) no.iluFill = std::atoi(e);  // EXPERIMENT
-        if (const char* e = std::getenv("AERO_LUMP")) ro.dissipation.lumping = std::atof(e);  // EXPERIMENT
-
-        // Start: a restart file (command line first, then the case) or the free stream.
-        std::vector<double> q;
-        io::RestartInfo previous;
+        study::EvaluationRequest request;
         const std::string restartFrom = !restartArg.empty() ? restartArg : c.flow.restart;
         if (!restartFrom.empty()) {
-            q = io::readRestart(restartFrom, fm, &previous);
-            const flow::FreeStream& fs = previous.freeStream;
-            std::snprintf(buf, sizeof buf, "restart from %s: %d iterations done, residual %.3e (Mach %g, alpha %g)",
-                          restartFrom.c_str(), previous.iterations, previous.residual, fs.mach, fs.alphaDeg);
-            say(buf);
-            const bool sameConditions = fs.mach == ro.freeStream.mach && fs.alphaDeg == ro.freeStream.alphaDeg &&
-                                        fs.gamma == ro.freeStream.gamma;
-            if (sameConditions && previous.initialResidual > 0) {
-                // Continue the same run: orders, tolerances and the CFL law refer to its first residual.
-                no.referenceResidual = previous.initialResidual;
-                if (previous.cflBase > 0) no.cfl0 = previous.cflBase;
-                ro.dissipation.lumping = std::max(ro.dissipation.lumping, previous.lumping);
-            } else {
-                say("the restart's free stream differs from the case's: it is only the initial guess");
-                previous.iterations = 0;
-            }
-        } else {
-            say("starting from the free stream");
+            request.start = study::FlowStart{};
+            request.start->restartFile = restartFrom;
         }
-        std::snprintf(buf, sizeof buf, "Mach %g, alpha %g deg, kappa2 %g, kappa4 %g; tolerance %.1e, at most %d iterations",
-                      ro.freeStream.mach, ro.freeStream.alphaDeg, ro.dissipation.kappa2, ro.dissipation.kappa4,
-                      no.relativeTolerance, no.maxIterations);
+        char buf[512];
+        int first = 0;  // iterations of the run a restart continues
+        auto progress = [&](const study::Progress& p) {
+            if (!p.iteration) {
+                if (!p.message.empty()) say(p.message);
+                return;
+            }
+            const flow::FlowIteration& it = *p.iteration;
+            first = p.iterationOffset;
+            const char* tag = p.coarse ? " (coarse)" : "";
+            if (!it.rejected.empty()) {
+                std::snprintf(buf, sizeof buf, "iter %4d%s  rejected at CFL %.2e (%s), retrying  %7.1f s", first + it.iteration,
+                              tag, it.cfl, it.rejected.c_str(), it.seconds);
+                say(buf);
+                return;
+            }
+            std::snprintf(buf, sizeof buf, "iter %4d%s  residual %.3e  (rel %.2e)  CFL %.2e  GMRES %3d (%.1e)%s  step %.2f  %7.1f s",
+                          first + it.iteration, tag, it.residual, it.relativeResidual, it.cfl, it.linearIterations,
+                          it.linearResidual, it.exact ? " exact" : "", it.stepScale, it.seconds);
+            say(buf);
+        };
+        std::snprintf(buf, sizeof buf, "Mach %g, alpha %g deg, %s scheme, kappa2 %g, kappa4 %g; tolerance %.1e, at most %d iterations",
+                      run.flow.freeStream.mach, run.flow.freeStream.alphaDeg,
+                      run.flow.scheme == flow::InviscidScheme::Central ? "central" : "entropy-conservative",
+                      run.flow.dissipation.kappa2, run.flow.dissipation.kappa4, run.flow.newton.relativeTolerance,
+                      run.flow.newton.maxIterations);
         say(buf);
 
         gCancel.store(false);
         auto oldInt = std::signal(SIGINT, onSignal);
         auto oldTerm = std::signal(SIGTERM, onSignal);
-        const int first = previous.iterations;
-        const flow::FlowReport rep = flow::solveFlow(fm, metrics, ro, q, no, [&](const flow::FlowIteration& it) {
-            if (!it.rejected.empty()) {
-                std::snprintf(buf, sizeof buf, "iter %4d  rejected at CFL %.2e (%s), retrying  %7.1f s",
-                              first + it.iteration, it.cfl, it.rejected.c_str(), it.seconds);
-                say(buf);
-                return;
-            }
-            std::snprintf(buf, sizeof buf, "iter %4d  residual %.3e  (rel %.2e)  CFL %.2e  GMRES %3d (%.1e)%s  step %.2f  %7.1f s",
-                          first + it.iteration, it.residual, it.relativeResidual, it.cfl, it.linearIterations,
-                          it.linearResidual, it.exact ? " exact" : "", it.stepScale, it.seconds);
-            say(buf);
-        }, &gCancel);
+        const study::Evaluation e = ev.evaluate(ev.caseValues(), request, progress, &gCancel);
         std::signal(SIGINT, oldInt);
         std::signal(SIGTERM, oldTerm);
+        if (!e.flow) {
+            // The shape or the mesh failed: nothing was solved.
+            throw GeometryError("'" + casePath + "': " + e.message + " (nothing written)");
+        }
+        const study::FlowResult& fr = *e.flow;
+        if (!fr.restartContinued) first = 0;
+        const flow::FlowReport& rep = fr.report;
+        const flow::FlowMesh& fm = fr.mesh;
+        if (rep.history.empty() && !fr.report.message.empty() && e.status == study::EvaluationStatus::InvalidMesh) {
+            throw GeometryError("'" + casePath + "': " + e.message);
+        }
         const std::string status = flow::flowStatusName(rep.status);
         say(rep.message.rfind(status, 0) == 0 ? rep.message : status + ": " + rep.message);
-        if (rep.lumping > ro.dissipation.lumping) {
+        if (!e.ok() && e.status != study::EvaluationStatus::Cancelled) say("why: " + e.message);
+        if (rep.lumping > fr.residualOptions.dissipation.lumping) {
             std::snprintf(buf, sizeof buf, "note: GMRES failed on the preconditioner's lumped system; its lumping factor was raised from %g to %g",
-                          ro.dissipation.lumping, rep.lumping);
+                          fr.residualOptions.dissipation.lumping, rep.lumping);
             say(buf);
         }
-
-        const bool failed = rep.status == flow::FlowStatus::Stalled || rep.status == flow::FlowStatus::Diverged ||
-                            rep.status == flow::FlowStatus::NotANumber;
-        if (failed && steepJump) {
-            std::snprintf(buf, sizeof buf, "hint: the grid's spacing jump (factor %.1f, warned about above) is the likely cause",
-                          jump.ratio);
-            say(buf);
-        } else if (failed && ro.dissipation.kappa4 < 0.05) {
-            std::snprintf(buf, sizeof buf,
-                          "hint: kappa4 %g is below the default 0.05, with which the half-sphere grids converge; "
-                          "less dissipation is known to stall at the rear stagnation point (docs/validation.md, known problem 1)",
-                          ro.dissipation.kappa4);
-            say(buf);
-        }
-        const flow::ForceCoefficients f = flow::integrateForces(fm, metrics, x, q, ro.freeStream, c.flow.reference);
-        const std::vector<double> s = flow::entropy(fm, q, ro.freeStream);
-        const std::vector<double> mach = flow::machNumber(fm, q, ro.freeStream.gamma);
-        double maxEntropy = 0, maxMach = 0;
-        for (long i = 0; i < fm.nodeCount; ++i) {
-            maxEntropy = std::max(maxEntropy, std::abs(s[i]));
-            maxMach = std::max(maxMach, mach[i]);
-        }
+        const flow::ForceCoefficients& f = fr.forces;
         std::snprintf(buf, sizeof buf, "CL %.6f  CD %.6f  CM %.6f  CY %.6f  max |s - s_inf| %.3e  max Mach %.3f", f.CL, f.CD,
-                      f.CM, f.CY, maxEntropy, maxMach);
+                      f.CM, f.CY, std::abs(fr.maxEntropy.value), fr.maxMach.value);
+        say(buf);
+        std::snprintf(buf, sizeof buf, "max Mach at block %d '%s' node (%d, %d, %d), x (%.3g, %.3g, %.3g), %s",
+                      fr.maxMach.block, fr.maxMach.blockName.c_str(), fr.maxMach.node[0], fr.maxMach.node[1],
+                      fr.maxMach.node[2], tidy(fr.maxMach.x[0]), tidy(fr.maxMach.x[1]), tidy(fr.maxMach.x[2]),
+                      fr.maxMach.boundary.c_str());
         say(buf);
 
         // Outputs, also when the solver failed (the user needs to see it). The state is never lost:
@@ -206,13 +156,13 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         if (restartTo.empty() && !rep.converged()) restartTo = defaultRestartPath(casePath);
         if (!restartTo.empty()) {
             io::RestartInfo info;
-            info.freeStream = ro.freeStream;
+            info.freeStream = fr.residualOptions.freeStream;
             info.iterations = first + rep.iterations;
             info.residual = rep.finalResidual;
             info.initialResidual = rep.initialResidual;
             info.cflBase = rep.cflBase;
             info.lumping = rep.lumping;
-            io::writeRestart(restartTo, fm, q, info);
+            io::writeRestart(restartTo, fm, fr.q, info);
             outputs["restart"] = restartTo;
         }
         if (!c.outputResidualCsv.empty()) {
@@ -220,7 +170,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             outputs["residual_csv"] = c.outputResidualCsv;
         }
         if (!c.outputFlowVtk.empty()) {
-            io::writeFlowVtm(c.outputFlowVtk, fm, x, q, ro.freeStream);
+            io::writeFlowVtm(c.outputFlowVtk, fm, fr.x, fr.q, fr.residualOptions.freeStream);
             outputs["flow_vtk"] = c.outputFlowVtk;
         }
         for (const auto& [key, file] : outputs.items()) say("wrote " + file.get<std::string>());
@@ -228,11 +178,21 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         const double orders = rep.finalResidual > 0 ? std::log10(rep.initialResidual / rep.finalResidual) : 16.0;
         const double peak = peakMemoryMb();
         if (json) {
+            auto where = [](const study::FlowLocation& l) {
+                nlohmann::ordered_json w;
+                w["value"] = l.value;
+                w["block"] = l.block;
+                w["block_name"] = l.blockName;
+                w["node"] = l.node;
+                w["x"] = l.x;
+                w["boundary"] = l.boundary;
+                return w;
+            };
             nlohmann::ordered_json j;
             j["case"] = casePath;
             j["converged"] = rep.converged();
             j["status"] = flow::flowStatusName(rep.status);
-            j["message"] = rep.message;
+            j["message"] = e.ok() ? rep.message : e.message;
             j["orders_reduced"] = orders;
             j["newton_iterations"] = rep.iterations;
             j["total_iterations"] = first + rep.iterations;
@@ -246,14 +206,17 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["CY"] = f.CY;
             j["force"] = f.force;
             j["moment"] = f.moment;
-            j["max_entropy"] = maxEntropy;
-            j["max_mach"] = maxMach;
-            j["mach"] = ro.freeStream.mach;
-            j["alpha"] = ro.freeStream.alphaDeg;
+            j["max_entropy"] = std::abs(fr.maxEntropy.value);
+            j["max_mach"] = fr.maxMach.value;
+            j["max_mach_at"] = where(fr.maxMach);
+            j["max_entropy_at"] = where(fr.maxEntropy);
+            j["largest_residual_at"] = where(fr.largestResidual);
+            j["mach"] = fr.residualOptions.freeStream.mach;
+            j["alpha"] = fr.residualOptions.freeStream.alphaDeg;
             j["blocks"] = fm.blocks.size();
             j["grid_nodes"] = fm.nodeCount;
-            j["largest_spacing_jump"] = jump.ratio;
-            j["deformed"] = cg.moved;
+            j["largest_spacing_jump"] = e.mesh->spacingJump.ratio;
+            j["deformed"] = e.mesh->moved;
             j["restarted_from"] = restartFrom;
             j["seconds_solve"] = rep.seconds;
             j["seconds"] = since(t0);

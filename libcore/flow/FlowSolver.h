@@ -32,7 +32,7 @@ struct NewtonOptions {
     double cflBackoff = 0.5;           // the CFL base is multiplied by this after a step whose GMRES
                                        // did not reach linearTolerance (accepted, but a sign that
                                        // the next, larger CFL would be harder still)
-    double cflMaxIncrease = 1e300;     // the CFL of an iteration at most this times the last
+    double cflMaxIncrease = 4.0;       // the CFL of an iteration at most this times the last
                                        // accepted one's (the (R0/R) factor can jump 5x in a step)
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
     int gmresRestart = 40;

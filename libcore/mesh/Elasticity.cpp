@@ -1,10 +1,12 @@
 #include "mesh/Elasticity.h"
 
+#include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <complex>
 
 #include "common/Error.h"
@@ -174,16 +176,40 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
     for (int d = 0; d < ndof; ++d) {
         if (!constrained[d]) freeIndex[d] = nfree++;
     }
-    // Mean control-cell volume (the size-stiffening reference).
+    // Mean control-cell volume (the size-stiffening reference); a cell with non-positive volume
+    // has no stiffness of the right sign: report it instead of assembling an indefinite K.
     double total = 0;
     long cells = 0;
-    for (const ControlBlock& b : m.blocks) {
+    IncrementResult r;
+    for (std::size_t bi = 0; bi < m.blocks.size() && !r.invalidCell; ++bi) {
+        const ControlBlock& b = m.blocks[bi];
+        long cell = 0;
         forEachCell(m, b, [&](const double* x, const int*) {
             double vol = 0, q = 0;
             cellMetrics(x, vol, q);
+            if (!(vol > 0) && !r.invalidCell) {
+                const int ni = b.count[0] - 1, nj = b.count[1] - 1;
+                const int ci = static_cast<int>(cell % ni), cj = static_cast<int>((cell / ni) % nj),
+                          ck = static_cast<int>(cell / (static_cast<long>(ni) * nj));
+                double centre[3] = {0, 0, 0};
+                for (int a = 0; a < 8; ++a) {
+                    for (int d = 0; d < 3; ++d) centre[d] += x[3 * a + d] / 8.0;
+                }
+                char buf[320];
+                std::snprintf(buf, sizeof buf,
+                              "control cell (%d, %d, %d) of block '%s' near (%.4g, %.4g, %.4g) has volume %.3g (inverted)",
+                              ci, cj, ck, b.name.c_str(), centre[0], centre[1], centre[2], vol);
+                r.invalidCell = true;
+                r.message = buf;
+            }
             total += vol;
             ++cells;
+            ++cell;
         });
+    }
+    if (r.invalidCell) {
+        r.u.assign(ndof, 0.0);
+        return r;
     }
     const double meanVolume = total / std::max(1L, cells);
 
@@ -196,14 +222,14 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
         std::size_t cell = 0;
         forEachCell(m, m.blocks[bi], [&](const double* x, const int* nodes) {
             hexStiffness<double>(x, E[cell++], o.poisson, K);
-            for (int r = 0; r < 24; ++r) {
-                const int gr = 3 * nodes[r / 3] + r % 3;
+            for (int row = 0; row < 24; ++row) {
+                const int gr = 3 * nodes[row / 3] + row % 3;
                 const int fr = freeIndex[gr];
                 if (fr < 0) continue;
                 for (int c = 0; c < 24; ++c) {
                     const int gc = 3 * nodes[c / 3] + c % 3;
                     const int fc = freeIndex[gc];
-                    const double v = K[r * 24 + c];
+                    const double v = K[row * 24 + c];
                     if (fc >= 0) {
                         triplets.emplace_back(fr, fc, v);
                     } else {
@@ -218,25 +244,53 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
     triplets.clear();
     triplets.shrink_to_fit();
 
-    // Incomplete Cholesky in the natural (structured) node order: on the half-sphere control grid
-    // it needs 340 iterations where AMD ordering needs 570 and Jacobi 951, and factors faster.
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                             Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
-        cg;
-    cg.setTolerance(o.tolerance);
-    cg.setMaxIterations(o.maxIterations);
-    cg.compute(A);
-    IncrementResult r;
-    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(nfree);
-    if (initial) {
-        for (int d = 0; d < ndof; ++d) {
-            if (freeIndex[d] >= 0) x0[freeIndex[d]] = (*initial)[d];
+    Eigen::VectorXd sol;
+    bool solved = false;
+    if (o.solver != ElasticityOptions::Solver::Direct) {
+        // Incomplete Cholesky in the natural (structured) node order: on the half-sphere control grid
+        // it needs 340 iterations where AMD ordering needs 570 and Jacobi 951, and factors faster.
+        Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                                 Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
+            cg;
+        cg.setTolerance(o.tolerance);
+        cg.setMaxIterations(o.solver == ElasticityOptions::Solver::Auto ? std::min(o.maxIterations, o.directAfter)
+                                                                          : o.maxIterations);
+        cg.compute(A);
+        Eigen::VectorXd x0 = Eigen::VectorXd::Zero(nfree);
+        if (initial) {
+            for (int d = 0; d < ndof; ++d) {
+                if (freeIndex[d] >= 0) x0[freeIndex[d]] = (*initial)[d];
+            }
+        }
+        sol = (cg.info() == Eigen::Success) ? Eigen::VectorXd(cg.solveWithGuess(rhs, x0)) : x0;
+        r.iterations = static_cast<int>(cg.iterations());
+        r.residual = cg.error();
+        r.converged = cg.info() == Eigen::Success && r.residual <= o.tolerance;
+        solved = r.converged || o.solver == ElasticityOptions::Solver::Iterative;
+        if (!r.converged) {
+            r.message = "PCG stopped at relative residual " + std::to_string(r.residual) + " after " +
+                        std::to_string(r.iterations) + " iterations";
         }
     }
-    Eigen::VectorXd sol = (cg.info() == Eigen::Success) ? Eigen::VectorXd(cg.solveWithGuess(rhs, x0)) : x0;
-    r.iterations = static_cast<int>(cg.iterations());
-    r.residual = cg.error();
-    r.converged = cg.info() == Eigen::Success && r.residual <= o.tolerance;
+    if (!solved) {
+        // Supernodal sparse Cholesky: K is SPD for -1 < poisson < 0.5 and positive cell volumes,
+        // and the solve is exact to round-off however distorted the cells are.
+        Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+        llt.compute(A);
+        r.direct = true;
+        if (llt.info() != Eigen::Success) {
+            r.converged = false;
+            r.residual = 1.0;
+            r.message = "the stiffness matrix is not positive definite (a control cell is degenerate)";
+            sol = Eigen::VectorXd::Zero(nfree);
+        } else {
+            sol = llt.solve(rhs);
+            const double bn = rhs.norm();
+            r.residual = bn > 0 ? (A * sol - rhs).norm() / bn : 0.0;
+            r.converged = std::isfinite(r.residual) && r.residual <= std::max(o.tolerance, 1e-8);
+            if (!r.converged) r.message = "the direct solve left a relative residual of " + std::to_string(r.residual);
+        }
+    }
     r.u.assign(ndof, 0.0);
     for (int d = 0; d < ndof; ++d) r.u[d] = freeIndex[d] >= 0 ? sol[freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
     return r;
@@ -269,7 +323,15 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         std::vector<double> prescribed(m.control.size(), 0.0);
         for (std::size_t d = 0; d < delta.size(); ++d) prescribed[d] = delta[d] / o.increments;
         const IncrementResult r = solveElasticity(m, constrained, prescribed, o, previous.empty() ? nullptr : &previous);
+        if (r.invalidCell) {
+            rep.status = SolveStatus::InvalidCell;
+            rep.message = "increment " + std::to_string(inc) + " of " + std::to_string(o.increments) + ": " + r.message +
+                          "; the wall moved further than the control grid can follow (more mesh.increments, or a smaller "
+                          "deformation)";
+            break;
+        }
         rep.cgIterations.push_back(r.iterations);
+        rep.directSolves += r.direct ? 1 : 0;
         rep.residuals.push_back(r.residual);
         rep.totalIterations += r.iterations;
         for (std::size_t d = 0; d < m.control.size(); ++d) m.control[d] += r.u[d];
@@ -277,8 +339,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         if (progress) progress(inc, o.increments);
         if (!r.converged) {
             rep.status = SolveStatus::NotConverged;
-            rep.message = "increment " + std::to_string(inc) + ": PCG stopped at relative residual " + std::to_string(r.residual) +
-                          " after " + std::to_string(r.iterations) + " iterations";
+            rep.message = "increment " + std::to_string(inc) + ": " + r.message;
             break;
         }
     }

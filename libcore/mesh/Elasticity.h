@@ -6,6 +6,7 @@
 // farfield nodes are fixed, symmetry-plane nodes (Y = 0) slide in the plane (u_y = 0).
 #include <atomic>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "mesh/MultiBlock.h"
@@ -21,6 +22,15 @@ struct ElasticityOptions {
         1.0;                   // E *= 1 + c (1 - q), q = min scaled Jacobian of the cell in [0, 1]
     double tolerance = 1e-10;  // PCG relative residual
     int maxIterations = 20000;
+    enum class Solver {
+        Auto,       // conjugate gradients (incomplete Cholesky), and a sparse Cholesky of the same
+                    // K when they have not converged in directAfter iterations
+        Iterative,  // conjugate gradients only (up to maxIterations)
+        Direct,     // supernodal sparse Cholesky (CHOLMOD) of every increment's K
+    };
+    Solver solver = Solver::Auto;
+    int directAfter = 1500;    // Auto: PCG iterations before the direct fallback (the half-sphere's
+                               // increments take 30-60; a wildly deformed design can take 20,000)
 };
 
 enum class SolveStatus { Converged, NotConverged, Cancelled, InvalidCell };
@@ -28,6 +38,7 @@ enum class SolveStatus { Converged, NotConverged, Cancelled, InvalidCell };
 struct MoveReport {
     SolveStatus status = SolveStatus::Converged;
     std::vector<int> cgIterations;  // per increment
+    int directSolves = 0;           // increments solved by the sparse Cholesky
     std::vector<double> residuals;  // final relative residual per increment
     int totalIterations = 0;
     int freeDofs = 0;
@@ -55,6 +66,9 @@ struct IncrementResult {
     int iterations = 0;
     double residual = 0;
     bool converged = false;
+    bool direct = false;       // solved by the sparse Cholesky
+    bool invalidCell = false;  // a control cell has non-positive volume (nothing solved)
+    std::string message;       // why, when not converged
 };
 IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
                                 const std::vector<double>& prescribed, const ElasticityOptions& o,

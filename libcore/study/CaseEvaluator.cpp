@@ -8,6 +8,7 @@
 #include "common/Error.h"
 #include "flow/Metrics.h"
 #include "flow/Residual.h"
+#include "io/FlowFiles.h"
 #include "mesh/Extrusion.h"
 
 namespace aero::study {
@@ -248,6 +249,14 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     }
     say(format("flow grid: %zu blocks, %ld nodes, %zu interface patches", f->mesh.blocks.size(), f->mesh.nodeCount,
                f->mesh.interfaces.size()));
+    const mesh::SpacingJump& jump = m.spacingJump;
+    if (jump.ratio > kSpacingJumpWarning) {
+        say(format("warning: the grid spacing jumps by a factor %.1f along %c at block %d '%s' node (%d, %d, %d) "
+                   "(x %.3g, %.3g, %.3g); central differences are poor there and the flow may stall "
+                   "(a finer level, a higher mesh.refine or a larger grid_wall_spacing reduces it)",
+                   jump.ratio, "ijk"[jump.direction], jump.block, jump.blockName.c_str(), jump.node[0], jump.node[1],
+                   jump.node[2], tidy(jump.x[0]), tidy(jump.x[1]), tidy(jump.x[2])));
+    }
 
     flow::NewtonOptions no = case_.flow.newton;
     const long n = 5 * f->mesh.nodeCount;
@@ -263,10 +272,27 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     }
     auto onIteration = [&](bool coarse) {
         return [&, coarse](const flow::FlowIteration& it) {
-            if (progress) progress({Stage::Flow, "", &it, coarse});
+            if (progress) progress({Stage::Flow, "", &it, coarse, coarse ? 0 : f->previousIterations});
         };
     };
-    if (request.start && !request.start->state.empty()) {
+    if (request.start && !request.start->restartFile.empty()) {
+        io::RestartInfo previous;
+        q = io::readRestart(request.start->restartFile, f->mesh, &previous);
+        const flow::FreeStream& fs = previous.freeStream;
+        say(format("restart from %s: %d iterations done, residual %.3e (Mach %g, alpha %g)",
+                   request.start->restartFile.c_str(), previous.iterations, previous.residual, fs.mach, fs.alphaDeg));
+        const bool same = fs.mach == ro.freeStream.mach && fs.alphaDeg == ro.freeStream.alphaDeg && fs.gamma == ro.freeStream.gamma;
+        if (same && previous.initialResidual > 0) {
+            // Continue the same run: orders, tolerances and the CFL law refer to its first residual.
+            no.referenceResidual = previous.initialResidual;
+            if (previous.cflBase > 0) no.cfl0 = previous.cflBase;
+            ro.dissipation.lumping = std::max(ro.dissipation.lumping, previous.lumping);
+            f->previousIterations = previous.iterations;
+            f->restartContinued = true;
+        } else {
+            say("the restart's free stream differs from the case's: it is only the initial guess");
+        }
+    } else if (request.start && !request.start->state.empty()) {
         if (static_cast<long>(request.start->state.size()) != n) {
             throw Error("evaluate: the initial flow state has " + std::to_string(request.start->state.size() / 5) +
                         " nodes, the grid " + std::to_string(f->mesh.nodeCount));

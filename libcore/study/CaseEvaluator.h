@@ -41,6 +41,7 @@ struct Progress {
     std::string message;
     const flow::FlowIteration* iteration = nullptr;
     bool coarse = false;  // the iteration belongs to the grid-sequencing pre-solve
+    int iterationOffset = 0;  // iterations done before this run (a continued restart)
 };
 using ProgressFn = std::function<void(const Progress&)>;
 
@@ -56,6 +57,9 @@ const char* evaluationStatusName(EvaluationStatus s);
 /// Where a flow starts: the free stream, the evaluator's last converged state (warm start), a
 /// given state (a restart), or a solve on a coarser sampling of the same grid (sequencing).
 struct FlowStart {
+    std::string restartFile;          // non-empty: read the state from this restart file (same
+                                      // grid; with the same free stream the run is continued:
+                                      // its iteration count, reference residual, CFL, lumping)
     std::vector<double> state;        // non-empty: start here (5 per node of this grid)
     double referenceResidual = 0;     // > 0: the run this one continues (restart)
     double cflBase = 0;               // > 0: the CFL law's base to continue with
@@ -79,6 +83,10 @@ struct MeshResult {
     mesh::SpacingJump spacingJump;
 };
 
+/// Largest ratio of neighbouring grid spacings accepted without a warning (the evaluation still
+/// runs): central differences lose their accuracy across such a jump and solves tend to stall.
+inline constexpr double kSpacingJumpWarning = 8.0;
+
 /// A node of the flow grid, located for a human.
 struct FlowLocation {
     int block = -1;
@@ -97,6 +105,8 @@ struct FlowResult {
     flow::FlowReport coarseReport;          // the sequencing pre-solve (empty if none)
     long coarseNodes = 0;
     bool warmStarted = false;
+    int previousIterations = 0;             // a continued restart: the iterations before this run
+    bool restartContinued = false;          // the restart had the same free stream: same run
     flow::ForceCoefficients forces;
     FlowLocation maxMach, maxEntropy;       // largest local Mach number, largest |s - s_inf|
     FlowLocation largestResidual;           // largest |R| per unit volume at the final state
