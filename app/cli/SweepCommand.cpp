@@ -24,21 +24,26 @@ namespace {
 
 const char* kSweepHelp =
     "usage: aeroform-cli sweep CASE.json [--fractions LIST] [--random N] [--seed S] [--spread X]\n"
-    "                                     [--warm] [--csv FILE] [--json]\n"
+    "                                     [--feasible] [--warm] [--csv FILE] [--json]\n"
     "\n"
     "Solves the case's flow at many designs of its design space and reports each: the case's own\n"
     "design scaled towards the baseline (v0 + f (v - v0) for every f of --fractions; default\n"
     "0,0.25,0.5,0.75,1) and --random N designs whose every variable lies anywhere up to X times its\n"
     "range from its baseline value (--spread, default 0.5), drawn with --seed (default 1). A random\n"
     "design whose lattice is not injective or whose moved grid folds is redrawn; the redraws are\n"
-    "counted and their last reason reported. Each design starts from the free stream (--warm: from\n"
-    "the previous converged design, as an optimizer would).\n"
+    "counted and their last reason reported. With --feasible only draws that satisfy the case's\n"
+    "linear constraints (stations in order with constraints.station_gap, symmetry) are kept, as\n"
+    "every optimizer iterate does; those redraws cost no lattice check and are counted apart. Each\n"
+    "design starts from the free stream (--warm: from the previous converged design, as an\n"
+    "optimizer would).\n"
     "\n"
     "  --fractions LIST  comma-separated fractions (empty: none)\n"
     "  --random N        random designs (default 0)\n"
     "  --seed S          random seed (default 1)\n"
     "  --spread X        fraction of each variable's range (default 0.5)\n"
     "  --max-draws N     random draws tried per design before giving up (default 20000)\n"
+    "  --feasible        random draws within the case's linear constraints\n"
+    "  --no-flow         shapes and grids only: how many draws are valid, without solving\n"
     "  --warm            warm-start every design from the last converged one\n"
     "  --csv FILE        one row per design\n"
     "  --json            one JSON summary on stdout\n"
@@ -83,19 +88,19 @@ struct Row {
 }  // namespace
 
 int runSweep(const std::string& casePath, const std::vector<double>& fractions, int random, std::uint64_t seed,
-             double spread, int maxDraws, bool warm, const std::string& csvPath, bool json) {
+             double spread, int maxDraws, bool feasible, bool noFlow, bool warm, const std::string& csvPath, bool json) {
     return guarded("sweep", [&] {
         const io::CaseFile c = io::readCase(casePath);
         if (!c.flow.present) throw CaseError("'" + casePath + "': the case has no \"flow\" section to sweep");
         study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), say);
         say(std::to_string(ev.variableCount()) + " design variables; " + std::to_string(fractions.size()) +
             " scaled designs, " + std::to_string(random) + " random (seed " + std::to_string(seed) + ", spread " +
-            std::to_string(spread) + ")");
+            std::to_string(spread) + (feasible ? ", within the linear constraints" : "") + ")");
         gCancel.store(false);
         auto oldInt = std::signal(SIGINT, onSweepSignal);
         auto oldTerm = std::signal(SIGTERM, onSweepSignal);
         std::vector<Row> rows;
-        study::RandomDesigns designs(ev, seed, spread);
+        study::RandomDesigns designs(ev, seed, spread, feasible);
         int redrawsShape = 0, redrawsMesh = 0;
         const int total = static_cast<int>(fractions.size()) + random;
         for (int d = 0; d < total && !gCancel.load(); ++d) {
@@ -123,6 +128,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             }
             study::EvaluationRequest rq;
             rq.warmStart = warm;
+            rq.flow = !noFlow;
             const auto t0 = std::chrono::steady_clock::now();
             int lastIteration = 0;
             const study::Evaluation e = ev.evaluate(v, rq, [&](const study::Progress& p) {
@@ -132,6 +138,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             row.status = study::evaluationStatusName(e.status);
             row.message = e.message;
             (void)lastIteration;
+            if (noFlow) row.converged = e.ok();
             if (e.flow) {
                 const flow::FlowReport& r = e.flow->report;
                 row.converged = r.converged();
@@ -163,9 +170,10 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
 
         int converged = 0;
         for (const Row& r : rows) converged += r.converged ? 1 : 0;
-        say(std::to_string(converged) + " of " + std::to_string(rows.size()) + " designs converged; " +
+        say(std::to_string(converged) + " of " + std::to_string(rows.size()) + (noFlow ? " designs valid; " : " designs converged; ") +
             std::to_string(redrawsShape) + " random draws redrawn for a non-injective lattice, " +
-            std::to_string(redrawsMesh) + " for an invalid grid");
+            std::to_string(redrawsMesh) + " for an invalid grid" +
+            (feasible ? ", " + std::to_string(designs.linearRejections()) + " for a linear constraint" : std::string()));
         if (!csvPath.empty()) {
             std::ofstream out(csvPath);
             if (!out) throw InputError("cannot write '" + csvPath + "'");
@@ -184,6 +192,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             j["converged"] = converged;
             j["redrawn_not_injective"] = redrawsShape;
             j["redrawn_invalid_mesh"] = redrawsMesh;
+            j["redrawn_linear_constraint"] = designs.linearRejections();
             nlohmann::ordered_json arr = nlohmann::ordered_json::array();
             for (const Row& r : rows) {
                 arr.push_back({{"design", r.label},      {"status", r.status},   {"converged", r.converged},
@@ -208,7 +217,7 @@ int cmdSweep(const Args& args) {
     std::vector<std::string> pos;
     std::map<std::string, std::string> val;
     std::string err;
-    if (!parse(args, {"--json", "--warm"}, {"--fractions", "--random", "--seed", "--spread", "--csv", "--max-draws"}, pos, val, err)) {
+    if (!parse(args, {"--json", "--warm", "--feasible", "--no-flow"}, {"--fractions", "--random", "--seed", "--spread", "--csv", "--max-draws"}, pos, val, err)) {
         return usageError("sweep", err, kSweepHelp);
     }
     if (pos.size() != 1) return usageError("sweep", "expected exactly one CASE file", kSweepHelp);
@@ -227,7 +236,7 @@ int cmdSweep(const Args& args) {
         return usageError("sweep", std::string("bad option value: ") + e.what(), kSweepHelp);
     }
     if (random < 0 || !(spread >= 0) || maxDraws < 1) return usageError("sweep", "--random and --spread must not be negative", kSweepHelp);
-    return runSweep(pos[0], fractions, random, seed, spread, maxDraws, val.count("--warm") > 0, val.count("--csv") ? val["--csv"] : "",
+    return runSweep(pos[0], fractions, random, seed, spread, maxDraws, val.count("--feasible") > 0, val.count("--no-flow") > 0, val.count("--warm") > 0, val.count("--csv") ? val["--csv"] : "",
                     val.count("--json") > 0);
 }
 

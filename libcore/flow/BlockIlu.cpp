@@ -110,10 +110,14 @@ void BlockIlu::analyze(const BlockSparseMatrix& A, int fill) {
         }
     }
     lu_ = makeBlockSparse(cols);
-    source_.resize(A.blockCount());
+    lu_.values.clear();
+    lu_.values.shrink_to_fit();
+    values_.assign(single_ ? kBlockSize * static_cast<std::size_t>(lu_.blockCount()) : 0, 0.0f);
+    valuesDouble_.assign(single_ ? 0 : kBlockSize * static_cast<std::size_t>(lu_.blockCount()), 0.0);
+    source_.assign(lu_.blockCount(), -1);
     for (long r = 0; r < n; ++r) {
         for (long b = A.rowStart[r]; b < A.rowStart[r + 1]; ++b) {
-            source_[b] = lu_.find(position_[r], position_[A.cols[b]]);
+            source_[lu_.find(position_[r], position_[A.cols[b]])] = b;
         }
     }
     analyzedRows_ = n;
@@ -123,10 +127,6 @@ void BlockIlu::analyze(const BlockSparseMatrix& A, int fill) {
 
 bool BlockIlu::factor(const BlockSparseMatrix& A, int fill) {
     if (analyzedRows_ != A.rows || analyzedBlocks_ != A.blockCount() || fill_ != fill) analyze(A, fill);
-    lu_.setZero();
-    for (long b = 0; b < A.blockCount(); ++b) {
-        std::copy(A.block(b), A.block(b) + kBlockSize, lu_.block(source_[b]));
-    }
     const long n = lu_.rows;
     diag_.assign(n, -1);
     dinv_.assign(kBlockSize * static_cast<std::size_t>(n), 0.0);
@@ -139,13 +139,14 @@ bool BlockIlu::factor(const BlockSparseMatrix& A, int fill) {
 #pragma omp parallel if (P > 1)
     {
         std::vector<long> where(n, -1);  // column -> block index in the current row
+        std::vector<double> row;         // the current row's blocks in double precision
 #pragma omp for schedule(dynamic, 1)
-        for (int p = 0; p < P; ++p) factorRows(start[p], start[p + 1], where, messages[p]);
+        for (int p = 0; p < P; ++p) factorRows(A, start[p], start[p + 1], where, row, messages[p]);
 #pragma omp single
         {
             bool ok = true;
             for (int p = 0; p < P; ++p) ok = ok && messages[p].empty();
-            if (ok) factorRows(start[P], start[P + 1], where, messages[P]);
+            if (ok) factorRows(A, start[P], start[P + 1], where, row, messages[P]);
         }
     }
     for (const std::string& m : messages) {
@@ -157,21 +158,31 @@ bool BlockIlu::factor(const BlockSparseMatrix& A, int fill) {
     return true;
 }
 
-void BlockIlu::factorRows(long firstRow, long lastRow, std::vector<long>& where, std::string& message) {
+void BlockIlu::factorRows(const BlockSparseMatrix& A, long firstRow, long lastRow, std::vector<long>& where,
+                          std::vector<double>& row, std::string& message) {
+    using FloatMap = Eigen::Map<const Eigen::Matrix<float, kBlock, kBlock, Eigen::RowMajor>>;
     for (long i = firstRow; i < lastRow; ++i) {
         const long first = lu_.rowStart[i], last = lu_.rowStart[i + 1];
-        for (long b = first; b < last; ++b) where[lu_.cols[b]] = b;
+        row.assign(kBlockSize * static_cast<std::size_t>(last - first), 0.0);
+        for (long b = first; b < last; ++b) {
+            where[lu_.cols[b]] = b;
+            if (source_[b] >= 0) std::copy(A.block(source_[b]), A.block(source_[b]) + kBlockSize, &row[kBlockSize * (b - first)]);
+        }
         for (long b = first; b < last; ++b) {
             const long k = lu_.cols[b];
             if (k >= i) break;
             // L_ik = A_ik U_kk^-1, then A_ij -= L_ik U_kj for the j > k stored in both rows.
-            Map Lik(lu_.block(b));
+            Map Lik(&row[kBlockSize * (b - first)]);
             const Block L = Lik * ConstMap(&dinv_[kBlockSize * k]);
             Lik = L;
             for (long c = diag_[k] + 1; c < lu_.rowStart[k + 1]; ++c) {
                 const long t = where[lu_.cols[c]];
                 if (t < 0) continue;
-                Map(lu_.block(t)).noalias() -= L * ConstMap(lu_.block(c));
+                if (single_) {
+                    Map(&row[kBlockSize * (t - first)]).noalias() -= L * FloatMap(&values_[kBlockSize * c]).cast<double>();
+                } else {
+                    Map(&row[kBlockSize * (t - first)]).noalias() -= L * ConstMap(&valuesDouble_[kBlockSize * c]);
+                }
             }
         }
         diag_[i] = where[i];
@@ -181,7 +192,7 @@ void BlockIlu::factorRows(long firstRow, long lastRow, std::vector<long>& where,
             message = "ILU: row " + std::to_string(ordering_.order[i]) + " has no diagonal block";
             return;
         }
-        const Block D = ConstMap(lu_.block(diag_[i]));
+        const Block D = ConstMap(&row[kBlockSize * (diag_[i] - first)]);
         Eigen::FullPivLU<Block> lu(D);
         if (!D.allFinite() || !lu.isInvertible()) {
             message = "ILU: singular or non-finite pivot block in row " + std::to_string(ordering_.order[i]);
@@ -189,12 +200,18 @@ void BlockIlu::factorRows(long firstRow, long lastRow, std::vector<long>& where,
         }
         Map dinv(&dinv_[kBlockSize * i]);
         dinv = lu.inverse();
+        if (single_) {
+            for (std::size_t e = 0; e < row.size(); ++e) values_[kBlockSize * first + e] = static_cast<float>(row[e]);
+        } else {
+            std::copy(row.begin(), row.end(), valuesDouble_.begin() + kBlockSize * first);
+        }
     }
 }
 
 namespace {
-// y -= A x for one 5x5 row-major block A.
-inline void subtractBlockProduct(const double* a, const double* x, double* y) {
+// y -= A x for one 5x5 row-major block A (stored in single precision).
+template <class V>
+inline void subtractBlockProduct(const V* a, const double* x, double* y) {
     for (int v = 0; v < kBlock; ++v) {
         double s = 0;
         for (int w = 0; w < kBlock; ++w) s += a[kBlock * v + w] * x[w];
@@ -203,11 +220,11 @@ inline void subtractBlockProduct(const double* a, const double* x, double* y) {
 }
 }  // namespace
 
-void BlockIlu::forwardRows(long first, long last, double* x) const {
+template <class V>
+void BlockIlu::forwardRows(const V* vals, long first, long last, double* x) const {
     // Plain loops over raw blocks (the compiler unrolls the 5x5 products fully); Eigen's
     // fixed-size 5-vectors made this 4-5x slower than a matrix product with as many blocks.
     const long* cols = lu_.cols.data();
-    const double* vals = lu_.values.data();
     for (long i = first; i < last; ++i) {
         double* xi = x + kBlock * i;
         for (long c = lu_.rowStart[i]; c < diag_[i]; ++c) {
@@ -216,9 +233,9 @@ void BlockIlu::forwardRows(long first, long last, double* x) const {
     }
 }
 
-void BlockIlu::backwardRows(long first, long last, double* x) const {
+template <class V>
+void BlockIlu::backwardRows(const V* vals, long first, long last, double* x) const {
     const long* cols = lu_.cols.data();
-    const double* vals = lu_.values.data();
     for (long i = last - 1; i >= first; --i) {
         double y[kBlock];
         for (int v = 0; v < kBlock; ++v) y[v] = x[kBlock * i + v];
@@ -250,14 +267,31 @@ void BlockIlu::solve(const double* b, double* x) const {
             for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
         }
 #pragma omp for schedule(dynamic, 1)
-        for (int p = 0; p < P; ++p) forwardRows(start[p], start[p + 1], w);
+        for (int p = 0; p < P; ++p) {
+            if (single_) {
+                forwardRows(values_.data(), start[p], start[p + 1], w);
+            } else {
+                forwardRows(valuesDouble_.data(), start[p], start[p + 1], w);
+            }
+        }
 #pragma omp single
         {
-            forwardRows(start[P], start[P + 1], w);
-            backwardRows(start[P], start[P + 1], w);
+            if (single_) {
+                forwardRows(values_.data(), start[P], start[P + 1], w);
+                backwardRows(values_.data(), start[P], start[P + 1], w);
+            } else {
+                forwardRows(valuesDouble_.data(), start[P], start[P + 1], w);
+                backwardRows(valuesDouble_.data(), start[P], start[P + 1], w);
+            }
         }
 #pragma omp for schedule(dynamic, 1)
-        for (int p = 0; p < P; ++p) backwardRows(start[p], start[p + 1], w);
+        for (int p = 0; p < P; ++p) {
+            if (single_) {
+                backwardRows(values_.data(), start[p], start[p + 1], w);
+            } else {
+                backwardRows(valuesDouble_.data(), start[p], start[p + 1], w);
+            }
+        }
 #pragma omp for schedule(static)
         for (long i = 0; i < n; ++i) {
             for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];

@@ -1,7 +1,8 @@
 #pragma once
 // Block incomplete LU factorization ILU(p) of a BlockSparseMatrix (level-of-fill p: p = 0 keeps
 // the matrix's pattern, p = 1, 2 add the fill of that level): L unit block lower, U block upper,
-// the diagonal blocks of U stored inverted. The flow solver's preconditioner, built from the
+// the diagonal blocks of U stored inverted. The factors are computed in double precision row by
+// row and stored in single precision (standard for preconditioners: GMRES iterations unchanged). The flow solver's preconditioner, built from the
 // approximate Jacobian plus the time-step diagonal.
 // Note: on a structured 7-point pattern, ILU(0) is the same for every lexicographic ordering
 // (the lower neighbours are always i-1, j-1, k-1), so reordering axes does not help; fill does.
@@ -34,6 +35,11 @@ public:
     /// Factor and solve in this row order (empty ordering: the matrix's own order, sequential).
     /// Takes effect at the next factor().
     void setOrdering(IluOrdering ordering);
+    /// Store the factors in single (default) or double precision; takes effect at the next analyze.
+    void setSinglePrecision(bool single) {
+        single_ = single;
+        analyzedRows_ = -1;
+    }
     /// Symbolic phase: the pattern of L + U for A's pattern and fill level p. Needed once per
     /// pattern; factor() calls it when the pattern or p changed.
     void analyze(const BlockSparseMatrix& A, int fill);
@@ -48,17 +54,25 @@ public:
     const IluOrdering& ordering() const { return ordering_; }
 
 private:
-    void factorRows(long first, long last, std::vector<long>& where, std::string& message);
-    void forwardRows(long first, long last, double* x) const;
-    void backwardRows(long first, long last, double* x) const;
+    void factorRows(const BlockSparseMatrix& A, long first, long last, std::vector<long>& where,
+                    std::vector<double>& row, std::string& message);
+    template <class V>
+    void forwardRows(const V* vals, long first, long last, double* x) const;
+    template <class V>
+    void backwardRows(const V* vals, long first, long last, double* x) const;
 
     IluOrdering ordering_;
     std::vector<long> position_;  // position_[original row] = new row
     mutable std::vector<double> work_;
-    BlockSparseMatrix lu_;       // in the new row order
+    BlockSparseMatrix lu_;       // pattern of L + U in the new row order (values unused)
+    std::vector<float> values_;  // L and U blocks in single precision (kBlockSize per block of
+                                 // lu_): each row is factored in double and stored rounded, which
+                                 // halves the preconditioner's memory and the solves' traffic
+    std::vector<double> valuesDouble_;  // ... or in double precision (setSinglePrecision(false))
+    bool single_ = true;
     std::vector<long> diag_;     // index of each row's diagonal block
-    std::vector<double> dinv_;   // inverted diagonal blocks of U
-    std::vector<long> source_;   // for each block of A, its index in lu_
+    std::vector<double> dinv_;   // inverted diagonal blocks of U (double)
+    std::vector<long> source_;   // for each block of lu_, the block of A it starts from (-1: fill)
     long analyzedRows_ = -1, analyzedBlocks_ = -1;
     int fill_ = -1;
     std::string message_;

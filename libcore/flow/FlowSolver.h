@@ -35,8 +35,8 @@ struct NewtonOptions {
     double cflMaxIncrease = 4.0;       // the CFL of an iteration at most this times the last
                                        // accepted one's (the (R0/R) factor can jump 5x in a step)
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
-    int gmresRestart = 40;
-    int gmresMaxIterations = 120;      // per nonlinear iteration
+    int gmresRestart = 60;
+    int gmresMaxIterations = 180;      // per nonlinear iteration (3 restart cycles)
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
     int stallIterations = 25;          // Stalled when for this many iterations neither the best

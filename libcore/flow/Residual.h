@@ -38,7 +38,8 @@ struct ResidualOptions {
 };
 
 /// r = R(q) for all blocks (r is overwritten). q, r: 5 * fm.nodeCount; metrics:
-/// kMetricWidth * fm.nodeCount. OpenMP over k planes inside each block.
+/// kMetricWidth * fm.nodeCount. OpenMP over the blocks (each writes only its own nodes; the
+/// loops inside a block run on one thread), then over the interface pairs.
 template <class T>
 void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r);
 

@@ -412,7 +412,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         const json& j = doc["flow"];
         ctx.keys(j, "flow", {"mach", "alpha", "gamma", "reference_area", "reference_length", "reference_point", "kappa2",
                              "kappa4", "tolerance", "max_iterations", "cfl0", "cfl_growth", "linear_tolerance",
-                             "ilu_fill", "ilu_parts", "lumping", "scheme", "grid_aware_dissipation", "restart"});
+                             "ilu_fill", "ilu_parts", "lumping", "scheme", "grid_aware_dissipation", "grid_sequencing", "restart"});
         FlowCase& fc = c.flow;
         fc.present = true;
         fc.reference.area = 3.14159265358979323846 / 2;  // the half-sphere's half frontal disc
@@ -443,6 +443,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         if (j.contains("ilu_parts")) {
             fc.newton.preconditionerParts = ctx.integer(j["ilu_parts"], "flow.ilu_parts", 1, 64);
         }
+        if (j.contains("grid_sequencing")) fc.gridSequencing = ctx.boolean(j["grid_sequencing"], "flow.grid_sequencing");
         if (j.contains("grid_aware_dissipation")) {
             fc.dissipation.gridAware = ctx.boolean(j["grid_aware_dissipation"], "flow.grid_aware_dissipation");
         }

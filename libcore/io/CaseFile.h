@@ -60,6 +60,7 @@ struct FlowCase {
     flow::InviscidScheme scheme = flow::InviscidScheme::EntropyConservative;
     flow::NewtonOptions newton;
     std::string restart;              // start from this restart file (resolved), empty: free stream
+    bool gridSequencing = false;      // a cold start first solves on half the grid intervals
 };
 
 struct CaseFile {

@@ -196,6 +196,7 @@ Json caseJson(const CaseFile& c) {
                   {"ilu_parts", f.newton.preconditionerParts},
                   {"lumping", f.dissipation.lumping},
                   {"grid_aware_dissipation", f.dissipation.gridAware},
+                  {"grid_sequencing", f.gridSequencing},
                   {"scheme", f.scheme == flow::InviscidScheme::Central ? "central" : "entropy_conservative"}};
         if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
         doc["flow"] = std::move(j);

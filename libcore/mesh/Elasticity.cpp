@@ -276,6 +276,7 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
         // Supernodal sparse Cholesky: K is SPD for -1 < poisson < 0.5 and positive cell volumes,
         // and the solve is exact to round-off however distorted the cells are.
         Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+        llt.cholmod().print = 0;  // no CHOLMOD warnings on stderr: a failure is reported in r.message
         llt.compute(A);
         r.direct = true;
         if (llt.info() != Eigen::Success) {

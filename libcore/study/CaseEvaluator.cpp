@@ -134,6 +134,16 @@ CaseEvaluator::~CaseEvaluator() = default;
 
 int CaseEvaluator::variableCount() const { return model_ ? model_->design().size() : 0; }
 
+std::vector<ffd::LinearConstraint> CaseEvaluator::linearConstraints() const {
+    std::vector<ffd::LinearConstraint> out;
+    if (!model_) return out;
+    if (case_.symmetry) out = model_->symmetryConstraints();
+    if (case_.stationGap) {
+        for (auto& g : model_->stationGapConstraints(*case_.stationGap)) out.push_back(std::move(g));
+    }
+    return out;
+}
+
 const mesh::MultiBlockMesh& CaseEvaluator::baselineMesh() {
     if (!mesh_) {
         const auto t = std::chrono::steady_clock::now();
@@ -303,9 +313,12 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         if (request.start->lumping > 0) ro.dissipation.lumping = std::max(ro.dissipation.lumping, request.start->lumping);
     } else if (request.warmStart && static_cast<long>(warm_.size()) == n) {
         q = warm_;
+        // The same absolute target as a cold run: the tolerance (and the CFL law) relative to the
+        // free-stream residual of the run that produced the state, not to the warm start's own.
+        if (warmReference_ > 0) no.referenceResidual = warmReference_;
         f->warmStarted = true;
         say("warm start from the last converged state");
-    } else if (request.sequencing && mesh_) {
+    } else if (request.sequencing.value_or(case_.flow.gridSequencing) && mesh_) {
         // Grid sequencing: the same analytic grid with half the intervals, solved loosely, then
         // interpolated in parameter space.
         if (!mesh_->coarse) {
@@ -386,6 +399,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         e.message = why;
     } else {
         warm_ = f->q;
+        warmReference_ = f->report.initialResidual;
     }
     e.secondsFlow = since(t);
 }

@@ -70,7 +70,8 @@ struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
     bool flow = true;        // run the flow stage (if the case has a flow section)
     bool warmStart = true;   // start from the last converged flow on the same grid
-    bool sequencing = false; // without a warm start: first solve on half the grid intervals
+    std::optional<bool> sequencing;  // without a warm start: first solve on half the grid
+                                     // intervals (unset: the case's flow.grid_sequencing)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
 };
 
@@ -147,6 +148,9 @@ public:
     const std::vector<double>& caseValues() const { return caseValues_; }
     /// The baseline control grid and its grid (extruded on first use, then kept).
     const mesh::MultiBlockMesh& baselineMesh();
+    /// The case's linear constraints on the design (constraints.symmetry, constraints.station_gap),
+    /// as the optimizer enforces them: lower <= row . v <= upper. Empty without a model.
+    std::vector<ffd::LinearConstraint> linearConstraints() const;
 
     /// Runs the stages for design v (variableCount() values). Never throws for a bad design:
     /// see Evaluation::status. `cancel` is checked between stages, increments and iterations.
@@ -155,7 +159,10 @@ public:
 
     /// The last converged flow state and its grid size (empty before the first).
     const std::vector<double>& lastConvergedState() const { return warm_; }
-    void forgetWarmStart() { warm_.clear(); }
+    void forgetWarmStart() {
+        warm_.clear();
+        warmReference_ = 0;
+    }
 
 private:
     struct Baseline;
@@ -170,6 +177,7 @@ private:
     std::vector<double> caseValues_;
     std::unique_ptr<Baseline> mesh_;      // extruded baseline (and its coarser sampling)
     std::vector<double> warm_;            // last converged flow state
+    double warmReference_ = 0;            // the reference residual of the run that produced it
     Log log_;
 };
 

@@ -17,15 +17,29 @@ std::vector<double> scaledDesign(const CaseEvaluator& ev, double fraction);
 /// Random designs: every variable drawn uniformly up to `spread` times its range (upper - lower)
 /// away from its baseline value, clipped to its bounds (spread 0.5: "anywhere up to half of its
 /// range away from the sphere's value"). Deterministic for a seed.
+/// With `feasible`, only designs that satisfy the case's linear constraints (the optimizer's
+/// feasible set: stations in order with the case's gap, symmetry) are returned: equality rows are
+/// met by projecting the draw onto them, a draw that violates an inequality row (or leaves the
+/// bounds after the projection) is redrawn and counted in linearRejections(). Independent uniform
+/// draws at spread 0.5 put adjacent stations out of order most of the time, so without this
+/// almost every draw has a folded lattice.
 class RandomDesigns {
 public:
-    RandomDesigns(const CaseEvaluator& ev, std::uint64_t seed, double spread = 0.5);
+    RandomDesigns(const CaseEvaluator& ev, std::uint64_t seed, double spread = 0.5, bool feasible = false);
+    /// Throws CaseError if `feasible` and no feasible draw came in 10^6 tries.
     std::vector<double> next();
+    long linearRejections() const { return linearRejections_; }
 
 private:
+    std::vector<double> draw();
+    bool satisfies(const std::vector<double>& v) const;
+
     const CaseEvaluator* ev_;
     std::mt19937_64 rng_;
     double spread_;
+    bool feasible_;
+    std::vector<ffd::LinearConstraint> equalities_, inequalities_;
+    long linearRejections_ = 0;
 };
 
 /// A random design whose shape and grid are valid: draws until the lattice is injective and the

@@ -322,3 +322,47 @@ TEST(Cli, FlowWarnsAboutASpacingJumpBeforeTheSolve) {
     EXPECT_LT(r.err.find("spacing jumps"), r.err.find("iter    1")) << r.err;
     EXPECT_NEAR(nlohmann::json::parse(r.out)["largest_spacing_jump"].get<double>(), 30.46, 0.05);
 }
+
+// aeroform-cli sweep on the blended-wing sample at CI size (refine 0.3, 4,320 nodes): the case's
+// design and one random design converge, the CSV has a row per design with the counts; --no-flow
+// checks shapes and grids only; bad options are usage errors.
+TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/bwb_flow.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["output"] = nlohmann::json::object();
+    const std::string path = tmp("sweep_case.json");
+    std::ofstream(path) << c.dump(1);
+    const std::string csv = outputPath("cli_sweep.csv");
+    std::filesystem::remove(csv);
+    const Result r = run("sweep '" + path + "' --fractions 1 --random 1 --spread 0.1 --seed 3 --csv '" + csv + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["designs"], 2);
+    EXPECT_EQ(j["converged"], 2);
+    ASSERT_EQ(j["rows"].size(), 2u);
+    EXPECT_EQ(j["rows"][0]["design"], "fraction 1");
+    EXPECT_GE(j["rows"][0]["orders"].get<double>(), 10.0);
+    EXPECT_EQ(j["rows"][0]["grid_nodes"], 4320);
+    EXPECT_LT(j["rows"][0]["max_mach"].get<double>(), 1.0);
+    EXPECT_EQ(j["rows"][1]["design"], "random 1");
+    EXPECT_GE(j["rows"][1]["redraws"].get<int>(), 0);
+    std::istringstream rows(slurp(csv));
+    std::string line;
+    int n = 0;
+    while (std::getline(rows, line)) ++n;
+    EXPECT_EQ(n, 3);  // header + 2 designs
+    EXPECT_NE(r.err.find("2 of 2 designs converged"), std::string::npos) << r.err;
+
+    const Result shapes = run("sweep '" + path + "' --fractions \"\" --random 2 --spread 0.1 --feasible --no-flow --json");
+    ASSERT_EQ(shapes.code, 0) << shapes.err;
+    const auto js = nlohmann::json::parse(shapes.out);
+    EXPECT_EQ(js["converged"], 2);
+    EXPECT_TRUE(js.contains("redrawn_linear_constraint"));
+    EXPECT_NE(shapes.err.find("2 of 2 designs valid"), std::string::npos) << shapes.err;
+
+    EXPECT_EQ(run("sweep '" + path + "' --spread -1").code, 2);
+    EXPECT_EQ(run("sweep '" + path + "' --random x").code, 2);
+    EXPECT_EQ(run("sweep").code, 2);
+    EXPECT_EQ(run("sweep '" + outputPath("no_such_case.json") + "'").code, 1);
+}

@@ -58,11 +58,39 @@ TEST(BlockIlu, IsExactOnABlockTridiagonalMatrix) {
     // ILU(0) of a chain has no dropped fill: it is the LU factorization.
     const BlockSparseMatrix A = gridMatrix(40, 1, 1);
     BlockIlu ilu;
+    ilu.setSinglePrecision(false);
     ASSERT_TRUE(ilu.factor(A, 0)) << ilu.message();
     const std::vector<double> b = randomVector(kBlock * A.rows, 2);
     std::vector<double> x(b.size());
     ilu.solve(b.data(), x.data());
     EXPECT_LT(maxError(A, x, b), 1e-12);
+    // Stored in single precision (the default), the same factorization is exact to float rounding.
+    BlockIlu single;
+    ASSERT_TRUE(single.factor(A, 0)) << single.message();
+    std::vector<double> xs(b.size());
+    single.solve(b.data(), xs.data());
+    const double e = maxError(A, xs, b);
+    EXPECT_LT(e, 1e-5);
+    EXPECT_GT(e, 1e-12);  // it really is rounded
+}
+
+TEST(BlockIlu, SinglePrecisionStorageLeavesGmresIterationsUnchanged) {
+    const BlockSparseMatrix A = gridMatrix(30, 20, 7);
+    const std::vector<double> b = randomVector(kBlock * A.rows, 8);
+    const LinearMap Am = [&](const double* in, double* out) { A.mult(in, out); };
+    int iterations[2] = {0, 0};
+    for (int single : {0, 1}) {
+        BlockIlu ilu;
+        ilu.setSinglePrecision(single == 1);
+        ASSERT_TRUE(ilu.factor(A, 1));
+        const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+        std::vector<double> x(b.size(), 0.0);
+        const GmresReport r = gmres(kBlock * A.rows, Am, M, b.data(), x.data(), {30, 200, 1e-12});
+        EXPECT_LE(r.relativeResidual, 1e-12);
+        EXPECT_LT(maxError(A, x, b), 1e-10);
+        iterations[single] = r.iterations;
+    }
+    EXPECT_LE(std::abs(iterations[1] - iterations[0]), 1) << iterations[0] << " vs " << iterations[1];
 }
 
 TEST(BlockIlu, WithEnoughFillIsTheCompleteFactorization) {
@@ -71,6 +99,7 @@ TEST(BlockIlu, WithEnoughFillIsTheCompleteFactorization) {
     const std::vector<double> b = randomVector(kBlock * A.rows, 4);
     std::vector<double> x(b.size());
     BlockIlu partial, complete;
+    complete.setSinglePrecision(false);
     ASSERT_TRUE(partial.factor(A, 0));
     partial.solve(b.data(), x.data());
     EXPECT_GT(maxError(A, x, b), 1e-6);  // ILU(0) drops fill: not exact here
@@ -125,6 +154,7 @@ TEST(BlockIlu, OrderedFactorizationIsExactWithFullFillAndTheSameOnAnyThreadCount
     const std::vector<double> b = randomVector(kBlock * A.rows, 12);
     // Complete fill: the ordered factorization is an exact LU of the permuted matrix.
     BlockIlu complete;
+    complete.setSinglePrecision(false);
     complete.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
     ASSERT_TRUE(complete.factor(A, 40)) << complete.message();
     std::vector<double> x(b.size());
