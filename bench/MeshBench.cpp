@@ -12,7 +12,7 @@
 #include "io/CaseFile.h"
 #include "mesh/Elasticity.h"
 #include "mesh/Extrusion.h"
-#include "study/CaseShape.h"
+#include "study/CaseEvaluator.h"
 
 using namespace aero;
 
@@ -23,8 +23,11 @@ std::string samples() { return AEROFORM_SAMPLES_DIR; }
 // The blended-wing deformation of the sample case (unique control points of the deformed geometry).
 const std::vector<double>& bwbSurface() {
     static const std::vector<double> s = [] {
-        io::CaseFile c = io::readCase(samples() + "/bwb_deform.json");
-        return study::deformCase(c, geometry::makeHalfSphere()).uniqueSurface;
+        study::CaseEvaluator ev(io::readCase(samples() + "/bwb_deform.json"), geometry::makeHalfSphere());
+        study::EvaluationRequest shapeOnly;
+        shapeOnly.mesh = false;
+        shapeOnly.flow = false;
+        return ev.evaluate(ev.caseValues(), shapeOnly).uniqueSurface;
     }();
     return s;
 }

@@ -19,6 +19,7 @@
 #include "io/CaseWriter.h"
 #include "io/GeometryVtk.h"
 #include "io/PatchSetJson.h"
+#include "study/GeometryFiles.h"
 
 namespace aero::ui {
 
@@ -53,18 +54,8 @@ std::string lowerExtension(const std::string& path) {
 
 // Patch set from .json (native), .igs/.iges; other names are sniffed (JSON starts with '{').
 geometry::PatchSet loadGeometry(const std::string& path, QString* message) {
-    std::string ext = lowerExtension(path);
-    if (ext != "json" && ext != "igs" && ext != "iges") {
-        std::ifstream in(path);
-        if (!in) throw InputError("cannot open geometry file '" + path + "'");
-        char c = ' ';
-        while (in.get(c) && std::isspace(static_cast<unsigned char>(c))) {
-        }
-        ext = c == '{' ? "json" : "igs";
-    }
-    if (ext == "json") return io::readPatchSetJson(path);
     cad::IgesReadReport report;
-    geometry::PatchSet set = cad::readIges(path, &report);
+    geometry::PatchSet set = study::loadGeometry(path, &report);
     if (message && (report.converted > 0 || report.trimmed > 0 || !report.warnings.empty())) {
         *message = QObject::tr("IGES: %1 faces, %2 converted to B-splines, %3 trimmed (untrimmed surface shown), %4 warnings")
                        .arg(report.faces)
@@ -510,9 +501,11 @@ void Document::editLattice(int l, const io::LatticeCase& lattice) {
     const std::string oldName = next.lattices[static_cast<std::size_t>(l)].name;
     next.lattices[static_cast<std::size_t>(l)] = lattice;
     int dropped = 0;
+    // Displacements and point variables index the refined lattice (as the case parser checks).
+    const std::array<int, 3> refined = io::refinedCounts(lattice);
     auto fits = [&](const std::array<int, 3>& idx) {
         for (int d = 0; d < 3; ++d)
-            if (idx[static_cast<std::size_t>(d)] >= lattice.counts[static_cast<std::size_t>(d)]) return false;
+            if (idx[static_cast<std::size_t>(d)] >= refined[static_cast<std::size_t>(d)]) return false;
         return true;
     };
     std::erase_if(next.displacements, [&](const io::DisplacementCase& d) {

@@ -5,6 +5,7 @@
 
 #include "cad/Iges.h"
 #include "io/PatchSetJson.h"
+#include "study/GeometryFiles.h"
 
 namespace aero::app {
 
@@ -31,30 +32,9 @@ std::string extension(const std::string& path) {
     return lower(path.substr(dot + 1));
 }
 
-geometry::PatchSet loadPatchSet(const std::string& path) {
-    std::string ext = extension(path);
-    if (ext != "json" && ext != "igs" && ext != "iges") {
-        std::ifstream in(path);
-        if (!in) throw InputError("cannot open geometry file '" + path + "'");
-        char c = ' ';
-        while (in.get(c) && std::isspace(static_cast<unsigned char>(c))) {
-        }
-        ext = (c == '{') ? "json" : "igs";
-    }
-    if (ext == "json") return io::readPatchSetJson(path);
-    return cad::readIges(path);
-}
+geometry::PatchSet loadPatchSet(const std::string& path) { return study::loadGeometry(path); }
 
-void savePatchSet(const geometry::PatchSet& set, const std::string& path) {
-    const std::string ext = extension(path);
-    if (ext == "json") {
-        io::writePatchSetJson(set, path);
-    } else if (ext == "igs" || ext == "iges") {
-        cad::writeIges(set, path);
-    } else {
-        throw InputError("output file '" + path + "': unknown extension (use .json, .igs or .iges)");
-    }
-}
+void savePatchSet(const geometry::PatchSet& set, const std::string& path) { study::saveGeometry(set, path); }
 
 int usageError(const char* command, const std::string& why, const char* help) {
     std::cerr << "aeroform-cli " << command << ": " << why << "\n\n" << help;

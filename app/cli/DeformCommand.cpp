@@ -10,7 +10,7 @@
 #include "geometry/EnclosedVolume.h"
 #include "io/CaseFile.h"
 #include "io/GeometryVtk.h"
-#include "study/CaseShape.h"
+#include "study/CaseEvaluator.h"
 
 namespace aero::app {
 
@@ -64,15 +64,21 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             }
             return kOk;
         }
-        const study::CaseShape shape = study::deformCase(c, set, [](const std::string& s) { std::fprintf(stderr, "[deform] %s\n", s.c_str()); });
-        const ffd::FfdModel& model = *shape.model;
+        // The one pipeline (study::CaseEvaluator): its shape stage at the case's design.
+        study::CaseEvaluator ev(c, set, [](const std::string& s) { std::fprintf(stderr, "[deform] %s\n", s.c_str()); });
+        study::EvaluationRequest shapeOnly;
+        shapeOnly.mesh = false;
+        shapeOnly.flow = false;
+        const study::Evaluation e = ev.evaluate(ev.caseValues(), shapeOnly);
+        if (!e.ok()) throw GeometryError("'" + casePath + "': " + e.message);
+        const ffd::FfdModel& model = *ev.model();
         const ffd::EmbeddingSummary& emb = model.summary();
-        const std::vector<double>& v = shape.values;
-        const std::vector<ffd::Lattice>& moved = shape.moved;
+        const std::vector<double>& v = e.values;
+        const std::vector<ffd::Lattice>& moved = e.lattices;
         double minJacobian = std::numeric_limits<double>::infinity();
         nlohmann::ordered_json lattices = nlohmann::ordered_json::array();
         for (std::size_t l = 0; l < moved.size(); ++l) {
-            const ffd::InjectivityReport& r = shape.injectivity[l];
+            const ffd::InjectivityReport& r = e.injectivity[l];
             minJacobian = std::min(minJacobian, r.relativeMinJacobian);
             lattices.push_back({{"name", model.lattices()[l].name},
                                 {"counts", moved[l].count},
@@ -82,8 +88,10 @@ int runDeform(const std::string& casePath, bool json, bool list) {
                                 {"refinements", r.refinements},
                                 {"min_jacobian", r.relativeMinJacobian}});
         }
-        const int outside = shape.pointsOutside, notConverged = shape.pointsNotConverged;
-        const geometry::PatchSet& deformed = shape.deformed;
+        int outside = 0;
+        for (const auto& f : emb.failures) outside += f.outside ? 1 : 0;
+        const int notConverged = static_cast<int>(emb.failures.size()) - outside;
+        const geometry::PatchSet& deformed = e.shape;
         const double volume0 = geometry::enclosedVolume(set), volume = geometry::enclosedVolume(deformed);
         progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
 
@@ -144,7 +152,7 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             j["points_outside"] = outside;
             j["points_not_converged"] = notConverged;
             j["design_variables"] = model.design().size();
-            j["injective"] = true;  // deformCase throws on a non-injective lattice
+            j["injective"] = true;  // a non-injective lattice is an InvalidShape status: refused above
             j["min_jacobian"] = minJacobian;
             j["lattices"] = lattices;
             j["volume"] = volume;

@@ -11,7 +11,7 @@
 #include "io/VtkXml.h"
 #include "mesh/Plot3d.h"
 #include "mesh/Quality.h"
-#include "study/CaseGrid.h"
+#include "study/CaseEvaluator.h"
 
 namespace aero::app {
 
@@ -30,7 +30,7 @@ const char* kMeshHelp =
     "\n"
     "  --json    print one JSON summary on stdout (blocks, control_nodes, grid_nodes, increments,\n"
     "            cg_iterations, min_jacobian, min_scaled_jacobian, max_aspect_ratio,\n"
-    "            seconds_move, seconds_regenerate, ...)\n"
+    "            seconds_generate, seconds_move, seconds_mesh, ...)\n"
     "  --help    this text\n";
 
 double since(std::chrono::steady_clock::time_point t0) {
@@ -54,20 +54,32 @@ int runMesh(const std::string& casePath, bool json) {
     return guarded("mesh", [&] {
         const auto t0 = std::chrono::steady_clock::now();
         const io::CaseFile c = io::readCase(casePath);
-        const geometry::PatchSet set = loadPatchSet(c.geometry);
+        geometry::PatchSet set = loadPatchSet(c.geometry);
         say("geometry " + c.geometry + ": " + std::to_string(set.size()) + " patches");
 
-        const study::CaseShape shape = study::deformCase(c, set, say);
-        study::CaseGrid cg = study::buildCaseGrid(c, set, shape, say);
-        const mesh::MultiBlockMesh& m = cg.mesh;
-        const std::vector<mesh::StructuredGrid>& grids = cg.grids;
-        const mesh::MoveReport& move = cg.move;
-        const bool moving = cg.moved;
+        // The one pipeline (study::CaseEvaluator): shape and mesh stages at the case's design.
+        study::CaseEvaluator ev(c, std::move(set), say);
+        study::EvaluationRequest request;
+        request.flow = false;
+        const auto tGenerate = std::chrono::steady_clock::now();
+        (void)ev.baselineMesh();
+        const double secondsGenerate = since(tGenerate);
+        const study::Evaluation e = ev.evaluate(ev.caseValues(), request, [](const study::Progress& p) {
+            if (!p.message.empty()) say(p.message);
+        });
+        if (e.status == study::EvaluationStatus::InvalidShape || !e.mesh) {
+            throw GeometryError("'" + casePath + "': " + e.message);
+        }
+        if (e.mesh->grids.empty()) throw GeometryError("'" + casePath + "': " + e.message);  // the move failed
+        const mesh::MultiBlockMesh& m = e.mesh->control;
+        const std::vector<mesh::StructuredGrid>& grids = e.mesh->grids;
+        const mesh::MoveReport& move = e.mesh->move;
+        const bool moving = e.mesh->moved;
         char buf[256];
 
         std::vector<mesh::CellQuality> q;
         for (const auto& g : grids) q.push_back(mesh::cellQuality(g));
-        const mesh::QualitySummary qs = mesh::summarize(grids, q, 10);
+        const mesh::QualitySummary& qs = e.mesh->quality;
         std::snprintf(buf, sizeof buf, "quality: min Jacobian %.3e, min scaled Jacobian %.3f, max aspect ratio %.1f, %ld bad cells",
                       qs.minJacobian.min, qs.scaledJacobian.min, qs.aspectRatio.max, qs.nonPositiveJacobian);
         say(buf);
@@ -130,14 +142,14 @@ int runMesh(const std::string& casePath, bool json) {
                 worst.push_back({{"block", w.block}, {"name", w.blockName}, {"cell", w.cell}, {"centroid", w.centroid}, {"scaled_jacobian", w.value}});
             }
             j["worst_cells"] = worst;
-            j["seconds_generate"] = cg.secondsGenerate;
-            j["seconds_move"] = cg.secondsMove;
-            j["seconds_regenerate"] = cg.secondsRegenerate;
+            j["seconds_generate"] = secondsGenerate;
+            j["seconds_move"] = move.seconds;
+            j["seconds_mesh"] = e.secondsMesh;  // move + regeneration + quality
             j["outputs"] = outputs;
             j["seconds"] = since(t0);
             std::printf("%s\n", j.dump(2).c_str());
         }
-        mesh::requirePositiveJacobians(grids, q);  // throws naming block and cell
+        if (!e.ok()) throw GeometryError("'" + casePath + "': " + e.message);  // names the block and cell
         std::snprintf(buf, sizeof buf, "done in %.3f s", since(t0));
         say(buf);
         return kOk;

@@ -95,6 +95,8 @@ std::string resolve(const std::string& caseFile, const std::string& p) {
     return (std::filesystem::path(caseFile).parent_path() / path).lexically_normal().string();
 }
 
+}  // namespace
+
 // Control points per direction after the case's refinements and creases (what indices refer to).
 std::array<int, 3> refinedCounts(const LatticeCase& lc) {
     std::array<int, 3> n{};
@@ -114,6 +116,8 @@ std::array<int, 3> refinedCounts(const LatticeCase& lc) {
     }
     return n;
 }
+
+namespace {
 
 int latticeRef(const Ctx& ctx, const json& v, const std::string& key, const std::vector<LatticeCase>& lattices) {
     if (v.is_number_integer()) return ctx.integer(v, key, 0, static_cast<int>(lattices.size()) - 1);

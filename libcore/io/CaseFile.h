@@ -100,6 +100,10 @@ bool looksLikeCase(const std::string& path);
 /// Throws CaseError for references to unknown patches or lattices (naming the key).
 ffd::FfdModel buildModel(const CaseFile& c, const geometry::PatchSet& geometry);
 
+/// Control points per direction of a case lattice after its refinements and creases: what the
+/// indices of displacements and point variables refer to.
+std::array<int, 3> refinedCounts(const LatticeCase& lc);
+
 /// Design-variable values of the case (baseline where not given). Throws CaseError naming an
 /// unknown variable or a value outside its bounds.
 std::vector<double> designValues(const CaseFile& c, const ffd::FfdModel& model);

@@ -27,9 +27,11 @@
 #include "io/CaseFile.h"
 #include "mesh/Elasticity.h"
 #include "mesh/Quality.h"
-#include "study/CaseShape.h"
 
 namespace aero::study {
+
+/// Progress lines for a human ("embedded 521 of 521 ..."); may be empty.
+using Log = std::function<void(const std::string&)>;
 
 enum class Stage { Shape, Mesh, Flow };
 const char* stageName(Stage s);

@@ -27,10 +27,10 @@ std::string slurp(const std::string& path) {
 
 std::string tmp(const std::string& name) { return std::string(AEROFORM_TEST_OUTPUT_DIR) + "/cli_" + name; }
 
-Result run(const std::string& args) {
+Result run(const std::string& args, const char* program = AEROFORM_CLI) {
     static int counter = 0;
     const std::string base = tmp("run" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    const std::string cmd = std::string("'") + AEROFORM_CLI + "' " + args + " > '" + base + ".out' 2> '" + base + ".err' < /dev/null";
+    const std::string cmd = std::string("'") + program + "' " + args + " > '" + base + ".out' 2> '" + base + ".err' < /dev/null";
     const int status = std::system(cmd.c_str());
     Result r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -366,3 +366,20 @@ TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
     EXPECT_EQ(run("sweep").code, 2);
     EXPECT_EQ(run("sweep '" + outputPath("no_such_case.json") + "'").code, 1);
 }
+
+#ifdef AEROFORM_GUI_BIN
+// `aeroform --batch` on a bad case: exit 1 with the key named, like `aeroform-cli` (it aborted
+// with 134, an uncaught CaseError); a good case runs headless to exit 0.
+TEST(Cli, BatchModeReportsABadCaseLikeTheCli) {
+    const std::string bad = writeCase("batch_bad.json", R"("mesh": {"level": "coarse", "refine": 0.5, "refinement": 2})");
+    const Result r = run("--batch '" + bad + "'", AEROFORM_GUI_BIN);
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find("mesh.refinement: unknown key"), std::string::npos) << r.err;
+    const Result cli = run("mesh '" + bad + "'");
+    EXPECT_EQ(cli.code, 1);
+    const Result good = run("--batch '" + writeCase("batch_good.json", R"("mesh": {"level": "coarse", "refine": 0.3})") + "'",
+                            AEROFORM_GUI_BIN);
+    EXPECT_EQ(good.code, 0) << good.err;
+    EXPECT_EQ(run("--batch", AEROFORM_GUI_BIN).code, 2);
+}
+#endif

@@ -168,3 +168,53 @@ TEST(Elasticity, LargeMoveKeepsInterfacesCoincidentAndCellsValid) {
         for (int c = 0; c < 3; ++c) EXPECT_EQ(m.control[3 * m.surfaceNode[u] + c], surface[3 * u + c]);
     }
 }
+
+// A control cell turned inside out before an increment is a status naming the block and the cell
+// (it was skipped in the assembly without a word, leaving K indefinite), not a PCG run on it.
+TEST(Elasticity, AnInvertedControlCellIsReportedWithItsBlockAndCell) {
+    MultiBlockMesh m = extrudeToFarfield(geometry::makeHalfSphere(), extrusionLevel("coarse"));
+    // Push one interior control node of block 0 through the wall, past its inner neighbours.
+    const auto& blk = m.blocks[0];
+    const int i = blk.count[0] / 2, j = blk.count[1] / 2, k = 1;
+    const int node = blk.nodes[blk.local(i, j, k)];
+    for (int c = 0; c < 3; ++c) m.control[3 * node + c] *= 0.5;  // from r ~ 1.01 to r ~ 0.5
+    std::vector<double> surface(3 * m.surfaceNode.size());
+    for (std::size_t u = 0; u < m.surfaceNode.size(); ++u) {
+        for (int c = 0; c < 3; ++c) surface[3 * u + c] = 1.01 * m.control[3 * m.surfaceNode[u] + c];
+    }
+    const MoveReport r = moveControlGrid(m, surface, ElasticityOptions{});
+    EXPECT_EQ(r.status, SolveStatus::InvalidCell);
+    EXPECT_NE(r.message.find("increment 1 of 6"), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find("of block '" + blk.name + "'"), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find("(inverted)"), std::string::npos) << r.message;
+}
+
+// The sparse Cholesky (the fallback when PCG stalls) solves the same increment as PCG.
+TEST(Elasticity, DirectSolveAgreesWithConjugateGradients) {
+    MultiBlockMesh m = extrudeToFarfield(geometry::makeHalfSphere(), extrusionLevel("coarse"));
+    const std::vector<char> constrained = boundaryConstraints(m);
+    std::vector<double> prescribed(m.control.size(), 0.0);
+    for (int u : m.surfaceNode) {
+        const double* p = &m.control[3 * static_cast<std::size_t>(u)];
+        prescribed[3 * static_cast<std::size_t>(u) + 1] = 0.1 * p[1];   // span +10 %
+        prescribed[3 * static_cast<std::size_t>(u) + 2] = -0.1 * p[2];  // thickness -10 %
+    }
+    ElasticityOptions iterative, direct;
+    iterative.tolerance = 1e-12;
+    iterative.solver = ElasticityOptions::Solver::Iterative;
+    direct.solver = ElasticityOptions::Solver::Direct;
+    const IncrementResult a = solveElasticity(m, constrained, prescribed, iterative);
+    const IncrementResult b = solveElasticity(m, constrained, prescribed, direct);
+    ASSERT_TRUE(a.converged) << a.message;
+    ASSERT_TRUE(b.converged) << b.message;
+    EXPECT_FALSE(a.direct);
+    EXPECT_TRUE(b.direct);
+    EXPECT_LT(b.residual, 1e-10);
+    double diff = 0, size = 0;
+    for (std::size_t d = 0; d < a.u.size(); ++d) {
+        diff = std::max(diff, std::abs(a.u[d] - b.u[d]));
+        size = std::max(size, std::abs(a.u[d]));
+    }
+    EXPECT_GT(size, 0.01);
+    EXPECT_LT(diff, 1e-8 * size);
+}

@@ -57,6 +57,7 @@ class DocumentTest : public QObject {
     void nonInjectiveLatticeIsReported();
     void outsidePointsAreReported();
     void latticeEditsRebuildTheModelAndUndo();
+    void renamingARefinedLatticeKeepsItsDisplacements();
     void saveAndReopenRestoresExactly();
     void meshOptionsAreUndoableAndSaved();
     void autosaveAndRecoveryRestoreExactly();
@@ -288,6 +289,29 @@ void DocumentTest::latticeEditsRebuildTheModelAndUndo() {
     QVERIFY(samePoints(d.shape(), d.baseline()));
     d.undoStack()->undo();
     QCOMPARE(d.latticeCount(), 1);
+}
+
+// Displacements index the refined lattice: one beyond the unrefined counts (i = 6 of the 7 points
+// after a knot insertion in i) survives a rename. The check compared with the unrefined counts
+// and dropped it.
+void DocumentTest::renamingARefinedLatticeKeepsItsDisplacements() {
+    Document d;
+    d.newFromSample(false);
+    aero::io::LatticeCase lc;
+    lc.name = "body";
+    lc.counts = {6, 6, 2};
+    lc.degrees = {3, 3, 1};
+    lc.padding = {0.05, 0.05, 0.05};
+    lc.refine = {{0, {0.5}}};
+    d.addLattice(lc);
+    QCOMPARE(d.lattices()[0].count, (std::array<int, 3>{7, 6, 2}));
+    d.moveLatticePoints(0, {d.lattices()[0].index(6, 2, 1)}, {0.05, 0, 0});
+    QCOMPARE(d.caseFile().displacements.size(), std::size_t(1));
+    lc.name = "renamed";
+    d.editLattice(0, lc);
+    QCOMPARE(d.caseFile().lattices[0].name, std::string("renamed"));
+    QCOMPARE(d.caseFile().displacements.size(), std::size_t(1));
+    QCOMPARE(d.caseFile().displacements[0].index, (std::array<int, 3>{6, 2, 1}));
 }
 
 void DocumentTest::meshOptionsAreUndoableAndSaved() {
