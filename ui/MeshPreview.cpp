@@ -10,6 +10,7 @@
 #include "io/VtkXml.h"
 #include "mesh/Extrusion.h"
 #include "mesh/Plot3d.h"
+#include "study/CaseEvaluator.h"
 
 namespace aero::ui {
 
@@ -155,84 +156,49 @@ std::string format(const char* fmt, auto... args) {
     return buf;
 }
 
-// True if `wall` equals the mesh's wall control nodes to round-off of the body size.
-bool sameWall(const mesh::MultiBlockMesh& m, const std::vector<double>& wall) {
-    if (wall.size() != 3 * m.surfaceNode.size()) return false;
-    double lo[3] = {wall[0], wall[1], wall[2]}, hi[3] = {wall[0], wall[1], wall[2]};
-    double largest = 0;
-    for (std::size_t u = 0; u < m.surfaceNode.size(); ++u) {
-        for (std::size_t c = 0; c < 3; ++c) {
-            const double x = wall[3 * u + c];
-            lo[c] = std::min(lo[c], x);
-            hi[c] = std::max(hi[c], x);
-            largest = std::max(
-                largest,
-                std::abs(x - m.control[3 * static_cast<std::size_t>(m.surfaceNode[u]) + c]));
-        }
-    }
-    const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-    return largest <= 1e-12 * size;
-}
-
 }  // namespace
 
 MeshPreviewResult runMeshPreview(const MeshPreviewInput& in, const MeshPreviewProgress& progress,
                                  const std::atomic<bool>* cancel) {
     const auto t0 = std::chrono::steady_clock::now();
-    auto report = [&](double fraction, const std::string& text) {
-        if (progress) progress(fraction, text);
-    };
-    auto stopped = [&] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
     MeshPreviewResult r;
-    r.level = in.mesh.level;
+    r.level = in.caseFile.mesh.level;
     r.wall = in.wall;
-
-    report(0.0, format("Generating the %s grid blocks...", in.mesh.level.c_str()));
-    r.mesh = mesh::extrudeToFarfield(in.baseline, in.mesh.extrusion);
-    if (stopped()) {
+    if (progress) progress(0.0, format("Generating the %s grid blocks...", r.level.c_str()));
+    // The one pipeline: a bad case (points outside every lattice, ...) throws, and the job
+    // reports it as the CLI would.
+    study::CaseEvaluator ev(in.caseFile, in.baseline);
+    study::EvaluationRequest request;
+    request.flow = false;
+    request.worstCells = in.worstCells;
+    double last = 0;
+    const study::Evaluation e = ev.evaluate(ev.caseValues(), request, [&](const study::Progress& p) {
+        if (!progress || p.message.empty()) return;
+        if (p.fraction >= 0) last = p.fraction;
+        std::string text = p.message;
+        if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+        progress(last, text + "...");
+    }, cancel);
+    if (e.status == study::EvaluationStatus::InvalidShape) throw GeometryError(e.message);
+    if (e.status == study::EvaluationStatus::Cancelled || !e.mesh || e.mesh->grids.empty()) {
         r.status = MeshPreviewStatus::Cancelled;
         return r;
     }
-
-    r.moved = !in.wall.empty() && !sameWall(r.mesh, in.wall);
-    if (r.moved) {
-        const int increments = in.mesh.elasticity.increments;
-        report(0.05, format("Moving the control grid: increment 1 of %d...", increments));
-        r.move = mesh::moveControlGrid(
-            r.mesh, in.wall, in.mesh.elasticity,
-            [&](int done, int total) {
-                report(0.05 + 0.85 * done / std::max(1, total),
-                       done < total ? format("Moving the control grid: increment %d of %d...",
-                                             done + 1, total)
-                                    : std::string("Regenerating the grid..."));
-            },
-            cancel);
-        if (r.move.status == mesh::SolveStatus::Cancelled) {
-            r.status = MeshPreviewStatus::Cancelled;
-            return r;
-        }
-        if (r.move.status != mesh::SolveStatus::Converged) {
-            r.status = MeshPreviewStatus::NotConverged;
-            r.message = "the control grid's elasticity move did not converge: " + r.move.message;
-        }
+    study::MeshResult& m = *e.mesh;
+    r.mesh = std::move(m.control);
+    r.grids = std::move(m.grids);
+    r.quality = std::move(m.cellQuality);
+    r.summary = std::move(m.quality);
+    r.moved = m.moved;
+    r.move = std::move(m.move);
+    if (r.moved && r.move.status != mesh::SolveStatus::Converged) {
+        // The grid is the last increment's, shown with the reason.
+        r.status = MeshPreviewStatus::NotConverged;
+        r.message = "the control grid's elasticity move did not converge: " + r.move.message;
     }
-    if (stopped()) {
-        r.status = MeshPreviewStatus::Cancelled;
-        return r;
-    }
-
-    report(0.90, "Regenerating the grid...");
-    r.grids = mesh::regenerateAll(r.mesh);
-    if (stopped()) {
-        r.status = MeshPreviewStatus::Cancelled;
-        return r;
-    }
-    report(0.94, "Checking cell quality...");
-    r.quality.reserve(r.grids.size());
-    for (const auto& g : r.grids) r.quality.push_back(mesh::cellQuality(g));
-    r.summary = mesh::summarize(r.grids, r.quality, in.worstCells);
+    // A folded grid is a result too: the window marks the cells and names the problem.
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    report(1.0, {});
+    if (progress) progress(1.0, {});
     return r;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // The mesh preview's work, as it runs on the worker thread (no Qt, no VTK, no Document): the
-// pipeline of `aeroform-cli mesh` (app/cli/MeshCommand.cpp) on copied inputs:
-//   extrudeToFarfield(baseline)  ->  moveControlGrid(wall)  ->  regenerateAll  ->  cellQuality,
-//   summarize.
+// shape and mesh stages of study::CaseEvaluator, the same code `aeroform-cli mesh` runs, on a
+// copy of the document's case:
+//   lattices -> deformed wall -> extrudeToFarfield(baseline) -> moveControlGrid -> regenerateAll
+//   -> cellQuality, summarize.
 // The GUI thread fills a MeshPreviewInput from the document, runs runMeshPreview() through a
 // BackgroundJob and hands the result (shared, read-only from then on) to the scene and panel.
 // Also here: the quality metrics by name and their colour scale, shared by the 3D view
@@ -60,9 +61,9 @@ std::vector<long> rangeHistogram(const std::vector<mesh::CellQuality>& q, Qualit
 
 struct MeshPreviewInput {
     geometry::PatchSet baseline;  // the mesh is generated around the baseline ...
-    io::MeshCase mesh;            // ... with the case's level and options ...
-    std::vector<double> wall;     // ... and its wall moved to these unique control points (3 each,
-                                  // geometry::buildControlPointIndex order); empty: not moved
+    io::CaseFile caseFile;        // ... with the case's level, options, lattices and design
+    std::vector<double> wall;     // the document's wall when the preview started (unique control
+                                  // points, 3 each): what the result is compared with later
     int worstCells = 25;          // how many of the worst cells to locate
 };
 

@@ -87,7 +87,7 @@ bool MeshPreviewer::start(QString* error) {
     // Copies for the worker: it never touches the document.
     auto input = std::make_shared<MeshPreviewInput>();
     input->baseline = document_->baseline();
-    input->mesh = document_->caseFile().mesh;
+    input->caseFile = document_->caseFile();
     input->wall = document_->uniquePoints();
     auto slot = std::make_shared<std::shared_ptr<MeshPreviewResult>>();
     clear();
@@ -112,7 +112,7 @@ bool MeshPreviewer::start(QString* error) {
         return false;
     }
     panel_->setRunning(true);
-    panel_->setStatus(tr("Starting the %1 grid...").arg(QString::fromStdString(input->mesh.level)));
+    panel_->setStatus(tr("Starting the %1 grid...").arg(QString::fromStdString(input->caseFile.mesh.level)));
     setState(State::Running);
     return true;
 }

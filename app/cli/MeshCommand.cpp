@@ -70,21 +70,20 @@ int runMesh(const std::string& casePath, bool json) {
         if (e.status == study::EvaluationStatus::InvalidShape || !e.mesh) {
             throw GeometryError("'" + casePath + "': " + e.message);
         }
-        if (e.mesh->grids.empty()) throw GeometryError("'" + casePath + "': " + e.message);  // the move failed
+        if (e.mesh->grids.empty()) throw GeometryError("'" + casePath + "': " + e.message);  // cancelled
         const mesh::MultiBlockMesh& m = e.mesh->control;
         const std::vector<mesh::StructuredGrid>& grids = e.mesh->grids;
         const mesh::MoveReport& move = e.mesh->move;
         const bool moving = e.mesh->moved;
         char buf[256];
 
-        std::vector<mesh::CellQuality> q;
-        for (const auto& g : grids) q.push_back(mesh::cellQuality(g));
+        const std::vector<mesh::CellQuality>& q = e.mesh->cellQuality;
         const mesh::QualitySummary& qs = e.mesh->quality;
         std::snprintf(buf, sizeof buf, "quality: min Jacobian %.3e, min scaled Jacobian %.3f, max aspect ratio %.1f, %ld bad cells",
                       qs.minJacobian.min, qs.scaledJacobian.min, qs.aspectRatio.max, qs.nonPositiveJacobian);
         say(buf);
 
-        // Outputs (also when the grid is bad: the user needs to see it).
+        // Outputs (also when the grid is bad or the move failed: the user needs to see it).
         nlohmann::ordered_json outputs = nlohmann::ordered_json::object();
         if (!c.outputMeshVtk.empty()) {
             std::vector<io::StructuredBlock> blocks;

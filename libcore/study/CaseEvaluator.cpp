@@ -15,6 +15,24 @@ namespace aero::study {
 
 namespace {
 
+// True if `wall` (unique control points, 3 each) equals the mesh's wall control nodes to
+// round-off of the body size.
+bool sameWall(const mesh::MultiBlockMesh& m, const std::vector<double>& wall) {
+    if (wall.size() != 3 * m.surfaceNode.size() || wall.empty()) return false;
+    double lo[3] = {wall[0], wall[1], wall[2]}, hi[3] = {wall[0], wall[1], wall[2]};
+    double largest = 0;
+    for (std::size_t u = 0; u < m.surfaceNode.size(); ++u) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            const double x = wall[3 * u + c];
+            lo[c] = std::min(lo[c], x);
+            hi[c] = std::max(hi[c], x);
+            largest = std::max(largest, std::abs(x - m.control[3 * static_cast<std::size_t>(m.surfaceNode[u]) + c]));
+        }
+    }
+    const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    return largest <= 1e-12 * size;
+}
+
 double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -189,18 +207,28 @@ void CaseEvaluator::evaluateShape(Evaluation& e) const {
     e.secondsShape = since(t);
 }
 
-void CaseEvaluator::evaluateMesh(Evaluation& e, const ProgressFn& progress, const std::atomic<bool>* cancel) {
-    auto say = [&](const std::string& s) {
-        if (progress) progress({Stage::Mesh, s, nullptr, false});
+void CaseEvaluator::evaluateMesh(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
+                                 const std::atomic<bool>* cancel) {
+    auto say = [&](const std::string& s, double fraction = -1) {
+        if (progress) {
+            Progress p{Stage::Mesh, s, nullptr, false};
+            p.fraction = fraction;
+            progress(p);
+        }
     };
     const auto t = std::chrono::steady_clock::now();
+    if (!mesh_) say(format("generating the %s grid blocks", case_.mesh.level.c_str()), 0.0);
     baselineMesh();
     auto m = std::make_shared<MeshResult>();
     m->control = mesh_->fine;
-    m->moved = model_ != nullptr;
+    // The move is skipped when the shape's wall is the baseline's (to round-off of the body size).
+    m->moved = model_ != nullptr && !sameWall(m->control, e.uniqueSurface);
     if (m->moved) {
+        const int increments = case_.mesh.elasticity.increments;
+        say(format("moving the control grid: increment 1 of %d", increments), 0.05);
         m->move = mesh::moveControlGrid(m->control, e.uniqueSurface, case_.mesh.elasticity, [&](int i, int n) {
-            say(format("elasticity increment %d/%d", i, n));
+            say(i < n ? format("moving the control grid: increment %d of %d", i + 1, n) : std::string("regenerating the grid"),
+                0.05 + 0.85 * i / std::max(1, n));
         }, cancel);
         say(format("moved the control grid: %d increments, %d PCG iterations, %d free DOFs, %.3f s",
                    static_cast<int>(m->move.cgIterations.size()), m->move.totalIterations, m->move.freeDofs,
@@ -213,20 +241,28 @@ void CaseEvaluator::evaluateMesh(Evaluation& e, const ProgressFn& progress, cons
             e.message = "the mesh movement did not converge: " + m->move.message;
         }
     }
-    if (e.status == EvaluationStatus::Ok) {
+    if (e.status != EvaluationStatus::Cancelled && !(cancel && cancel->load())) {
+        // Also after a failed move (its last increment), so the user can look at it.
+        say("regenerating the grid", 0.9);
         m->grids = mesh::regenerateAll(m->control);
-        std::vector<mesh::CellQuality> q;
+        say("checking cell quality", 0.94);
+        auto& q = m->cellQuality;
         for (const auto& g : m->grids) q.push_back(mesh::cellQuality(g));
-        m->quality = mesh::summarize(m->grids, q, 10);
+        m->quality = mesh::summarize(m->grids, q, request.worstCells);
         m->spacingJump = mesh::largestSpacingJump(m->grids);
-        try {
-            mesh::requirePositiveJacobians(m->grids, q);
-        } catch (const GeometryError& err) {
-            e.status = EvaluationStatus::InvalidMesh;
-            e.message = std::string("the moved grid is folded: ") + err.what();
+        if (e.status == EvaluationStatus::Ok) {
+            try {
+                mesh::requirePositiveJacobians(m->grids, q);
+            } catch (const GeometryError& err) {
+                e.status = EvaluationStatus::InvalidMesh;
+                e.message = std::string("the moved grid is folded: ") + err.what();
+            }
         }
         say(format("regenerated %ld grid nodes; min scaled Jacobian %.3f, max aspect ratio %.3g", m->control.gridNodeCount(),
-                   m->quality.scaledJacobian.min, m->quality.aspectRatio.max));
+                   m->quality.scaledJacobian.min, m->quality.aspectRatio.max), 1.0);
+    } else if (e.status == EvaluationStatus::Ok) {
+        e.status = EvaluationStatus::Cancelled;
+        e.message = "cancelled during the mesh stage";
     }
     e.mesh = std::move(m);
     e.secondsMesh = since(t);
@@ -417,7 +453,7 @@ Evaluation CaseEvaluator::evaluate(const std::vector<double>& v, const Evaluatio
         e.message = "cancelled before the mesh stage";
         return e;
     }
-    evaluateMesh(e, progress, cancel);
+    evaluateMesh(e, request, progress, cancel);
     if (!e.ok() || !wantFlow) return e;
     if (cancel && cancel->load()) {
         e.status = EvaluationStatus::Cancelled;

@@ -44,6 +44,7 @@ struct Progress {
     const flow::FlowIteration* iteration = nullptr;
     bool coarse = false;  // the iteration belongs to the grid-sequencing pre-solve
     int iterationOffset = 0;  // iterations done before this run (a continued restart)
+    double fraction = -1;     // how much of the stage is done, in [0, 1] (-1: unknown)
 };
 using ProgressFn = std::function<void(const Progress&)>;
 
@@ -75,13 +76,17 @@ struct EvaluationRequest {
     std::optional<bool> sequencing;  // without a warm start: first solve on half the grid
                                      // intervals (unset: the case's flow.grid_sequencing)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
+    int worstCells = 10;     // how many of the worst cells the mesh quality summary locates
 };
 
 struct MeshResult {
-    mesh::MultiBlockMesh control;            // the moved control grid
-    std::vector<mesh::StructuredGrid> grids; // x = N b, one per block
-    mesh::MoveReport move;                   // empty when the shape is the baseline
-    bool moved = false;
+    mesh::MultiBlockMesh control;            // the moved control grid (the last increment's when
+                                             // the move failed: kept for inspection)
+    std::vector<mesh::StructuredGrid> grids; // x = N b, one per block (also of a failed move or a
+                                             // folded grid, for inspection; empty if cancelled)
+    std::vector<mesh::CellQuality> cellQuality;  // per block, per cell
+    mesh::MoveReport move;                   // empty when the wall is the baseline's
+    bool moved = false;                      // false when the shape's wall is the baseline's
     mesh::QualitySummary quality;
     mesh::SpacingJump spacingJump;
 };
@@ -169,7 +174,8 @@ public:
 private:
     struct Baseline;
     void evaluateShape(Evaluation& e) const;
-    void evaluateMesh(Evaluation& e, const ProgressFn& progress, const std::atomic<bool>* cancel);
+    void evaluateMesh(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
+                      const std::atomic<bool>* cancel);
     void evaluateFlow(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
                       const std::atomic<bool>* cancel);
 

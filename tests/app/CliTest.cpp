@@ -224,7 +224,7 @@ TEST(Cli, MeshTheBlendedWingSampleGivesAValidGrid) {
     EXPECT_TRUE(j["deformed"].get<bool>());
     EXPECT_TRUE(std::filesystem::exists(outputPath("cli_mesh/grid.xyz")));
     // Progress goes to stderr, one line per increment.
-    EXPECT_NE(r.err.find("elasticity increment 6/6"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("moving the control grid: increment 6 of 6"), std::string::npos) << r.err;
 }
 
 TEST(Cli, MeshWithoutDeformationAndBatchMode) {
