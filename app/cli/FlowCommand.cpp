@@ -21,6 +21,7 @@
 #include "flow/Metrics.h"
 #include "flow/Outputs.h"
 #include "io/FlowFiles.h"
+#include "io/Options.h"
 #include "mesh/Quality.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
@@ -236,6 +237,14 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
 int cmdFlow(const Args& args) {
     if (hasFlag(args, "--help") || hasFlag(args, "-h")) {
         std::printf("%s", kFlowHelp);
+        // The case keys, from the option table the parser uses (io/Options.h).
+        std::printf("\nCase keys of \"flow\" (default, range; docs/case-file.md has the descriptions):\n");
+        const io::FlowCase defaults;
+        for (const auto& o : io::flowOptions()) {
+            const std::string range = o.spec.range() + (o.spec.unit.empty() ? "" : " " + o.spec.unit);
+            std::printf("  %-24s %-22s %s\n", o.spec.key.c_str(), io::formatOptionValue(o.get(defaults)).c_str(), range.c_str());
+        }
+        std::printf("  %-24s %-22s %s\n", "restart", "none", "a restart file");
         return kOk;
     }
     std::vector<std::string> pos;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/Error.h"
+#include "io/Options.h"
 #include "nurbs/Basis.h"
 #include "nurbs/KnotInsertion.h"
 
@@ -29,13 +30,16 @@ struct Ctx {
         throw CaseError("'" + file + "': " + key + ": " + why);
     }
     void keys(const json& obj, const std::string& key, std::initializer_list<const char*> allowed) const {
+        keys(obj, key, std::vector<std::string>(allowed.begin(), allowed.end()));
+    }
+    void keys(const json& obj, const std::string& key, const std::vector<std::string>& allowed) const {
         if (!obj.is_object()) fail(key, "expected an object");
         for (auto it = obj.begin(); it != obj.end(); ++it) {
             bool ok = false;
-            for (const char* a : allowed) ok = ok || it.key() == a;
+            for (const auto& a : allowed) ok = ok || it.key() == a;
             if (!ok) {
                 std::string list;
-                for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+                for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
                 fail(key.empty() ? it.key() : key + "." + it.key(), "unknown key (allowed: " + list + ")");
             }
         }
@@ -414,52 +418,38 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     if (doc.contains("flow")) {
         const json& j = doc["flow"];
-        ctx.keys(j, "flow", {"mach", "alpha", "gamma", "reference_area", "reference_length", "reference_point", "kappa2",
-                             "kappa4", "tolerance", "max_iterations", "cfl0", "cfl_growth", "linear_tolerance",
-                             "ilu_fill", "ilu_parts", "lumping", "scheme", "grid_aware_dissipation", "grid_sequencing", "restart"});
+        // Every key but "restart" (a path) comes from the option table (io/Options.h).
+        std::vector<std::string> allowed{"restart"};
+        for (const auto& o : flowOptions()) allowed.push_back(o.spec.key);
+        ctx.keys(j, "flow", allowed);
         FlowCase& fc = c.flow;
         fc.present = true;
-        fc.reference.area = 3.14159265358979323846 / 2;  // the half-sphere's half frontal disc
-        // `range` is the interval as the message shows it; "[" makes the lower bound inclusive.
-        auto bounded = [&](const char* key, double& out, double lo, double hi, const char* range) {
-            if (!j.contains(key)) return;
-            out = ctx.number(j[key], std::string("flow.") + key);
-            const bool aboveLo = range[0] == '[' ? out >= lo : out > lo;
-            if (!(aboveLo && out < hi)) {
-                ctx.fail(std::string("flow.") + key, "value " + std::to_string(out) + " outside " + range);
+        for (const auto& o : flowOptions()) {
+            if (!j.contains(o.spec.key)) continue;
+            const std::string key = "flow." + o.spec.key;
+            const json& v = j[o.spec.key];
+            OptionValue value;
+            switch (o.spec.kind) {
+                case OptionKind::Number:
+                    value = ctx.number(v, key);
+                    break;
+                case OptionKind::Integer:
+                    if (!v.is_number_integer()) ctx.fail(key, std::string("expected an integer, found ") + v.type_name());
+                    value = static_cast<long>(std::clamp<long long>(v.get<long long>(), -(1LL << 53), 1LL << 53));
+                    break;
+                case OptionKind::Boolean:
+                    value = ctx.boolean(v, key);
+                    break;
+                case OptionKind::Choice:
+                    value = ctx.string(v, key);
+                    break;
+                case OptionKind::Point:
+                    value = ctx.numbers<3>(v, key);
+                    break;
             }
-        };
-        bounded("mach", fc.freeStream.mach, 0, 10, "(0, 10)");
-        bounded("alpha", fc.freeStream.alphaDeg, -90, 90, "(-90, 90) degrees");
-        bounded("gamma", fc.freeStream.gamma, 1, 3, "(1, 3)");
-        bounded("reference_area", fc.reference.area, 0, 1e300, "(0, inf)");
-        bounded("reference_length", fc.reference.length, 0, 1e300, "(0, inf)");
-        if (j.contains("reference_point")) fc.reference.point = ctx.numbers<3>(j["reference_point"], "flow.reference_point");
-        bounded("kappa2", fc.dissipation.kappa2, 0, 10, "[0, 10)");
-        bounded("kappa4", fc.dissipation.kappa4, 0, 1, "[0, 1)");
-        bounded("tolerance", fc.newton.relativeTolerance, 0, 1, "(0, 1)");
-        bounded("lumping", fc.dissipation.lumping, 0, 1000, "(0, 1000)");
-        bounded("cfl0", fc.newton.cfl0, 0, 1e12, "(0, 1e12)");
-        bounded("cfl_growth", fc.newton.cflGrowth, 1, 100, "[1, 100)");
-        bounded("linear_tolerance", fc.newton.linearTolerance, 0, 1, "(0, 1)");
-        if (j.contains("max_iterations")) fc.newton.maxIterations = ctx.integer(j["max_iterations"], "flow.max_iterations", 1, 100000);
-        if (j.contains("ilu_fill")) fc.newton.iluFill = ctx.integer(j["ilu_fill"], "flow.ilu_fill", 0, 4);
-        if (j.contains("ilu_parts")) {
-            fc.newton.preconditionerParts = ctx.integer(j["ilu_parts"], "flow.ilu_parts", 1, 64);
-        }
-        if (j.contains("grid_sequencing")) fc.gridSequencing = ctx.boolean(j["grid_sequencing"], "flow.grid_sequencing");
-        if (j.contains("grid_aware_dissipation")) {
-            fc.dissipation.gridAware = ctx.boolean(j["grid_aware_dissipation"], "flow.grid_aware_dissipation");
-        }
-        if (j.contains("scheme")) {
-            const std::string name = ctx.string(j["scheme"], "flow.scheme");
-            if (name == "central") {
-                fc.scheme = flow::InviscidScheme::Central;
-            } else if (name == "entropy_conservative") {
-                fc.scheme = flow::InviscidScheme::EntropyConservative;
-            } else {
-                ctx.fail("flow.scheme", "unknown scheme '" + name + "' (expected central or entropy_conservative)");
-            }
+            const std::string why = o.spec.check(value);
+            if (!why.empty()) ctx.fail(key, why);
+            o.set(fc, value);
         }
         if (j.contains("restart")) fc.restart = resolve(path, ctx.string(j["restart"], "flow.restart"));
     }

@@ -55,7 +55,8 @@ struct MeshCase {
 struct FlowCase {
     bool present = false;
     flow::FreeStream freeStream;
-    flow::ForceReference reference;   // default area pi/2 (the half-sphere's half frontal disc)
+    flow::ForceReference reference{3.14159265358979323846 / 2, 1.0, {0, 0, 0}};  // area pi/2: the
+                                      // half-sphere's half frontal disc (one default, here)
     flow::DissipationOptions dissipation;
     flow::InviscidScheme scheme = flow::InviscidScheme::EntropyConservative;
     flow::NewtonOptions newton;

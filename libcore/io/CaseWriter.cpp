@@ -5,8 +5,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <variant>
 
 #include "common/Error.h"
+#include "io/Options.h"
 
 namespace aero::io {
 
@@ -179,25 +181,10 @@ Json caseJson(const CaseFile& c) {
     }
     if (c.flow.present) {
         const FlowCase& f = c.flow;
-        Json j = {{"mach", f.freeStream.mach},
-                  {"alpha", f.freeStream.alphaDeg},
-                  {"gamma", f.freeStream.gamma},
-                  {"reference_area", f.reference.area},
-                  {"reference_length", f.reference.length},
-                  {"reference_point", f.reference.point},
-                  {"kappa2", f.dissipation.kappa2},
-                  {"kappa4", f.dissipation.kappa4},
-                  {"tolerance", f.newton.relativeTolerance},
-                  {"max_iterations", f.newton.maxIterations},
-                  {"cfl0", f.newton.cfl0},
-                  {"cfl_growth", f.newton.cflGrowth},
-                  {"linear_tolerance", f.newton.linearTolerance},
-                  {"ilu_fill", f.newton.iluFill},
-                  {"ilu_parts", f.newton.preconditionerParts},
-                  {"lumping", f.dissipation.lumping},
-                  {"grid_aware_dissipation", f.dissipation.gridAware},
-                  {"grid_sequencing", f.gridSequencing},
-                  {"scheme", f.scheme == flow::InviscidScheme::Central ? "central" : "entropy_conservative"}};
+        Json j = Json::object();
+        for (const auto& opt : flowOptions()) {  // every option of the table (io/Options.h)
+            std::visit([&](const auto& v) { j[opt.spec.key] = v; }, opt.get(f));
+        }
         if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
         doc["flow"] = std::move(j);
     }

@@ -3,9 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "common/Error.h"
 #include "geometry/HalfSphere.h"
+#include "io/CaseWriter.h"
+#include "io/Options.h"
 
 using namespace aero;
 
@@ -132,4 +136,48 @@ TEST(CaseFile, DisplacementIndicesReferToTheRefinedLattice) {
     const int a = moved[0].index(7, 8, 1);
     EXPECT_NEAR(moved[0].points[3 * a + 2] - m.lattices()[0].lattice.points[3 * a + 2], 0.1, 1e-15);
     expectCaseError(lattice + R"("displacements": [{"index": [8, 0, 0], "delta": [0, 0, 0]}])", "displacements[0].index[0]");
+}
+
+// The flow section's options are one table (io/Options.h): the parser accepts exactly its keys
+// and checks their ranges, the writer writes them all back, and docs/case-file.md shows every
+// option with its default and range as the table generates it.
+TEST(Options, FlowTableDrivesParserWriterAndDocumentation) {
+    const auto& options = io::flowOptions();
+    ASSERT_GE(options.size(), 19u);
+    const io::FlowCase defaults;
+    for (const auto& o : options) {
+        EXPECT_TRUE(o.spec.check(o.get(defaults)).empty()) << o.spec.key << ": the default is outside its own range";
+        EXPECT_FALSE(o.spec.description.empty()) << o.spec.key;
+    }
+    // Every key parses and writes back (a value other than the default where possible).
+    std::string body = R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {)";
+    body += R"("mach": 0.7, "ilu_parts": 3, "scheme": "central", "grid_sequencing": true, "reference_point": [0.25, 0, 0]}})";
+    const std::string path = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/options_case.json";
+    std::ofstream(path) << body;
+    const io::CaseFile c = io::readCase(path);
+    EXPECT_EQ(c.flow.freeStream.mach, 0.7);
+    EXPECT_EQ(c.flow.newton.preconditionerParts, 3);
+    EXPECT_EQ(c.flow.scheme, flow::InviscidScheme::Central);
+    EXPECT_TRUE(c.flow.gridSequencing);
+    EXPECT_EQ(c.flow.reference.point[0], 0.25);
+    EXPECT_NEAR(c.flow.reference.area, 3.14159265358979323846 / 2, 1e-15);  // one default
+    const std::string written = io::formatCase(c);
+    for (const auto& o : options) EXPECT_NE(written.find("\"" + o.spec.key + "\""), std::string::npos) << o.spec.key;
+    // Ranges come from the table, with its message.
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"ilu_fill": 7}})";
+    try {
+        (void)io::readCase(path);
+        ADD_FAILURE() << "ilu_fill 7 accepted";
+    } catch (const CaseError& e) {
+        EXPECT_NE(std::string(e.what()).find("flow.ilu_fill: value 7 outside [0, 4]"), std::string::npos) << e.what();
+    }
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"scheme": "upwind"}})";
+    EXPECT_THROW((void)io::readCase(path), CaseError);
+    // The documentation's rows are the generated ones.
+    std::ifstream in(std::string(AEROFORM_SAMPLES_DIR) + "/../docs/case-file.md");
+    std::stringstream doc;
+    doc << in.rdbuf();
+    for (const std::string& row : io::optionTableRows(options)) {
+        EXPECT_NE(doc.str().find(row), std::string::npos) << "docs/case-file.md lacks (or has an old version of) the row\n" << row;
+    }
 }

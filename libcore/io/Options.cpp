@@ -1,0 +1,181 @@
+#include "io/Options.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace aero::io {
+
+namespace {
+
+std::string number(double x) {
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", x);
+    return b;
+}
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Table entries, one line each: a real in a range, an integer in a range, a switch, a choice.
+template <class F>
+Option<FlowCase> real(const char* key, const char* unit, double lo, bool loClosed, double hi, bool hiClosed, F&& field,
+                      const char* description) {
+    Option<FlowCase> o;
+    o.spec = {key, description, unit, OptionKind::Number, lo, hi, loClosed, hiClosed, {}};
+    o.get = [field](const FlowCase& c) { return OptionValue(field(const_cast<FlowCase&>(c))); };
+    o.set = [field](FlowCase& c, const OptionValue& v) { field(c) = std::get<double>(v); };
+    return o;
+}
+
+template <class F>
+Option<FlowCase> integer(const char* key, long lo, long hi, F&& field, const char* description) {
+    Option<FlowCase> o;
+    o.spec = {key, description, "", OptionKind::Integer, static_cast<double>(lo), static_cast<double>(hi), true, true, {}};
+    o.get = [field](const FlowCase& c) { return OptionValue(static_cast<long>(field(const_cast<FlowCase&>(c)))); };
+    o.set = [field](FlowCase& c, const OptionValue& v) { field(c) = static_cast<int>(std::get<long>(v)); };
+    return o;
+}
+
+template <class F>
+Option<FlowCase> boolean(const char* key, F&& field, const char* description) {
+    Option<FlowCase> o;
+    o.spec = {key, description, "", OptionKind::Boolean, 0, 0, true, true, {}};
+    o.get = [field](const FlowCase& c) { return OptionValue(static_cast<bool>(field(const_cast<FlowCase&>(c)))); };
+    o.set = [field](FlowCase& c, const OptionValue& v) { field(c) = std::get<bool>(v); };
+    return o;
+}
+
+}  // namespace
+
+std::string OptionSpec::range() const {
+    switch (kind) {
+        case OptionKind::Number:
+        case OptionKind::Integer:
+            return std::string(lowerClosed ? "[" : "(") + number(lower) + ", " + number(upper) + (upperClosed ? "]" : ")");
+        case OptionKind::Boolean:
+            return "true, false";
+        case OptionKind::Choice: {
+            std::string s;
+            for (const auto& c : choices) s += (s.empty() ? "" : ", ") + c;
+            return s;
+        }
+        case OptionKind::Point:
+            return "[x, y, z]";
+    }
+    return "";
+}
+
+std::string OptionSpec::check(const OptionValue& v) const {
+    if (kind == OptionKind::Number || kind == OptionKind::Integer) {
+        const double x = kind == OptionKind::Number ? std::get<double>(v) : static_cast<double>(std::get<long>(v));
+        const bool above = lowerClosed ? x >= lower : x > lower;
+        const bool below = upperClosed ? x <= upper : x < upper;
+        if (!(above && below)) {
+            const std::string shown = kind == OptionKind::Number ? std::to_string(x) : std::to_string(std::get<long>(v));
+            return "value " + shown + " outside " + range() + (unit.empty() ? "" : " " + unit);
+        }
+    } else if (kind == OptionKind::Choice) {
+        const std::string& s = std::get<std::string>(v);
+        for (const auto& c : choices) {
+            if (c == s) return "";
+        }
+        return "unknown value '" + s + "' (expected " + range() + ")";
+    }
+    return "";
+}
+
+std::string formatOptionValue(const OptionValue& v) {
+    if (const auto* d = std::get_if<double>(&v)) return number(*d);
+    if (const auto* i = std::get_if<long>(&v)) return std::to_string(*i);
+    if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+    if (const auto* s = std::get_if<std::string>(&v)) return "\"" + *s + "\"";
+    const auto& p = std::get<std::array<double, 3>>(v);
+    return "[" + number(p[0]) + ", " + number(p[1]) + ", " + number(p[2]) + "]";
+}
+
+const std::vector<Option<FlowCase>>& flowOptions() {
+    static const std::vector<Option<FlowCase>> options = [] {
+        std::vector<Option<FlowCase>> o;
+        o.push_back(real("mach", "", 0, false, 10, false, [](FlowCase& c) -> double& { return c.freeStream.mach; },
+                                   "free-stream Mach number"));
+        o.push_back(real("alpha", "degrees", -90, false, 90, false,
+                                   [](FlowCase& c) -> double& { return c.freeStream.alphaDeg; },
+                                   "angle of attack; the free stream is M (cos a, 0, sin a): X downstream, Z up, Y normal "
+                                   "to the symmetry plane"));
+        o.push_back(real("gamma", "", 1, false, 3, false, [](FlowCase& c) -> double& { return c.freeStream.gamma; },
+                                   "ratio of specific heats"));
+        o.push_back(real("reference_area", "length^2", 0, false, kInf, false,
+                                   [](FlowCase& c) -> double& { return c.reference.area; },
+                                   "S_ref of the coefficients (default: the half-sphere's half frontal disc, pi/2; the "
+                                   "grid's half body when a symmetry plane halves it)"));
+        o.push_back(real("reference_length", "length", 0, false, kInf, false,
+                                   [](FlowCase& c) -> double& { return c.reference.length; },
+                                   "c_ref of the moment coefficient"));
+        {
+            Option<FlowCase> p;
+            p.spec = {"reference_point", "moment reference point; CM is the moment about +Y", "length", OptionKind::Point,
+                      0, 0, true, true, {}};
+            p.get = [](const FlowCase& c) { return OptionValue(c.reference.point); };
+            p.set = [](FlowCase& c, const OptionValue& v) { c.reference.point = std::get<std::array<double, 3>>(v); };
+            o.push_back(std::move(p));
+        }
+        {
+            Option<FlowCase> s;
+            s.spec = {"scheme",
+                      "interior inviscid discretization: the SBP operator in flux-difference form with an "
+                      "entropy-conservative two-point flux (stable with little dissipation), or the classical "
+                      "conservative central form (needs kappa4 0.05 on the half-sphere grids); docs/validation.md",
+                      "", OptionKind::Choice, 0, 0, true, true, {"entropy_conservative", "central"}};
+            s.get = [](const FlowCase& c) {
+                return OptionValue(std::string(c.scheme == flow::InviscidScheme::Central ? "central" : "entropy_conservative"));
+            };
+            s.set = [](FlowCase& c, const OptionValue& v) {
+                c.scheme = std::get<std::string>(v) == "central" ? flow::InviscidScheme::Central
+                                                                  : flow::InviscidScheme::EntropyConservative;
+            };
+            o.push_back(std::move(s));
+        }
+        o.push_back(real("kappa2", "", 0, true, 10, false, [](FlowCase& c) -> double& { return c.dissipation.kappa2; },
+                                   "second-difference dissipation coefficient (shocks, scaled by the pressure switch)"));
+        o.push_back(real("kappa4", "", 0, true, 1, false, [](FlowCase& c) -> double& { return c.dissipation.kappa4; },
+                                   "fourth-difference (background) dissipation coefficient"));
+        o.push_back(boolean("grid_aware_dissipation", [](FlowCase& c) -> bool& { return c.dissipation.gridAware; },
+                            "the fourth difference scaled by the grid's own spacing ratio in each direction, so on a "
+                            "stretched grid it does not act as a first-order wall friction; false: the index-space "
+                            "operator"));
+        o.push_back(real("tolerance", "", 0, false, 1, false,
+                                   [](FlowCase& c) -> double& { return c.newton.relativeTolerance; },
+                                   "stop when the residual has fallen by this factor (relative to the free stream's "
+                                   "residual on the grid, or to the first run's when restarted)"));
+        o.push_back(integer("max_iterations", 1, 100000, [](FlowCase& c) -> int& { return c.newton.maxIterations; },
+                            "nonlinear iterations"));
+        o.push_back(real("cfl0", "", 0, false, 1e12, false, [](FlowCase& c) -> double& { return c.newton.cfl0; },
+                                   "initial CFL number (the CFL also grows as R0/R)"));
+        o.push_back(real("cfl_growth", "", 1, true, 100, false,
+                                   [](FlowCase& c) -> double& { return c.newton.cflGrowth; },
+                                   "growth of the CFL base per full step"));
+        o.push_back(real("linear_tolerance", "", 0, false, 1, false,
+                                   [](FlowCase& c) -> double& { return c.newton.linearTolerance; },
+                                   "GMRES relative tolerance per nonlinear iteration"));
+        o.push_back(integer("ilu_fill", 0, 4, [](FlowCase& c) -> int& { return c.newton.iluFill; },
+                            "level of fill of the block ILU preconditioner"));
+        o.push_back(integer("ilu_parts", 1, 64, [](FlowCase& c) -> int& { return c.newton.preconditionerParts; },
+                            "the ILU is factored and applied in this many groups of mesh blocks in parallel, their "
+                            "coupling kept through a separator ordered last (1 = natural order, sequential); fixed per "
+                            "case rather than taken from the thread count, so a run takes the same iterations on any "
+                            "machine"));
+        o.push_back(real("lumping", "", 0, false, 1000, false,
+                                   [](FlowCase& c) -> double& { return c.dissipation.lumping; },
+                                   "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "
+                                   "to the second difference); smaller is closer to the real operator but less "
+                                   "diagonally dominant"));
+        o.push_back(boolean("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
+                            "a cold start first converges on half the grid intervals of the same analytic grid (exact "
+                            "prolongation in the grid parameters), then on the case's grid"));
+        return o;
+    }();
+    return options;
+}
+
+}  // namespace aero::io

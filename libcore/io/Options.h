@@ -1,0 +1,64 @@
+#pragma once
+// Self-describing options: one table per options struct, with each option's case-file key,
+// description, unit, range (or choices) and a getter and setter. The case parser and writer,
+// `aeroform-cli flow --help` and docs/case-file.md (generated rows, checked by a test) all read
+// it, so an option is added in one place: one line of its table.
+#include <array>
+#include <functional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "io/CaseFile.h"
+
+namespace aero::io {
+
+enum class OptionKind { Number, Integer, Boolean, Choice, Point };
+
+/// A value of any kind: Number (double), Integer (long), Boolean (bool), Choice (std::string),
+/// Point (three doubles).
+using OptionValue = std::variant<double, long, bool, std::string, std::array<double, 3>>;
+
+struct OptionSpec {
+    std::string key;          // the key in its case-file section, e.g. "kappa4"
+    std::string description;  // one sentence or two for people
+    std::string unit;         // "" when dimensionless
+    OptionKind kind = OptionKind::Number;
+    double lower = 0, upper = 0;               // Number and Integer: the allowed range ...
+    bool lowerClosed = true, upperClosed = true;  // ... with its ends included or not
+    std::vector<std::string> choices;          // Choice: the allowed names
+    /// "[0, 1)", "(0, inf)", "entropy_conservative, central", "true, false", ...
+    std::string range() const;
+    /// Empty if v is allowed, else why not ("value 2 outside [0, 1)").
+    std::string check(const OptionValue& v) const;
+};
+
+template <class S>
+struct Option {
+    OptionSpec spec;
+    std::function<OptionValue(const S&)> get;
+    std::function<void(S&, const OptionValue&)> set;
+};
+
+/// The options of the case's "flow" section (without "restart", a path resolved against the
+/// case file). Defaults are those of a default-constructed FlowCase.
+const std::vector<Option<FlowCase>>& flowOptions();
+
+/// A value as the case file and the documentation show it: 0.02, 300, true, "central", [0, 0, 0].
+std::string formatOptionValue(const OptionValue& v);
+
+/// The markdown rows "| `key` | default | range [unit] | description |" of the table in
+/// docs/case-file.md, one per option, in the table's order.
+template <class S>
+std::vector<std::string> optionTableRows(const std::vector<Option<S>>& options) {
+    std::vector<std::string> rows;
+    const S defaults{};
+    for (const auto& o : options) {
+        const std::string range = o.spec.range() + (o.spec.unit.empty() ? "" : " " + o.spec.unit);
+        rows.push_back("| `" + o.spec.key + "` | " + formatOptionValue(o.get(defaults)) + " | " + range + " | " +
+                       o.spec.description + " |");
+    }
+    return rows;
+}
+
+}  // namespace aero::io
