@@ -299,4 +299,63 @@ void BlockIlu::solve(const double* b, double* x) const {
     }
 }
 
+template <class V>
+void BlockIlu::transposeSweeps(const V* vals, double* x) const {
+    // P A P^T = L U, so A^T = P^T U^T L^T P: U^T y = x (forward, U^T lower with diagonal blocks
+    // U_ii^T), then L^T z = y (backward, unit upper). Column-oriented: once y_i is known, its
+    // contribution U_ij^T y_i is scattered to the later rows j; likewise L_ik^T z_i to rows k < i.
+    const long n = lu_.rows;
+    const long* cols = lu_.cols.data();
+    for (long i = 0; i < n; ++i) {
+        double* xi = x + kBlock * i;
+        double y[kBlock];
+        const double* dinv = &dinv_[kBlockSize * static_cast<std::size_t>(i)];
+        for (int v = 0; v < kBlock; ++v) {
+            double s = 0;
+            for (int w = 0; w < kBlock; ++w) s += dinv[kBlock * w + v] * xi[w];  // (U_ii^-1)^T
+            y[v] = s;
+        }
+        for (int v = 0; v < kBlock; ++v) xi[v] = y[v];
+        for (long c = diag_[i] + 1; c < lu_.rowStart[i + 1]; ++c) {
+            const V* a = vals + kBlockSize * c;
+            double* xj = x + kBlock * cols[c];
+            for (int w = 0; w < kBlock; ++w) {
+                double s = 0;
+                for (int v = 0; v < kBlock; ++v) s += a[kBlock * v + w] * y[v];  // U_ij^T y_i
+                xj[w] -= s;
+            }
+        }
+    }
+    for (long i = n - 1; i >= 0; --i) {
+        const double* zi = x + kBlock * i;
+        for (long c = lu_.rowStart[i]; c < diag_[i]; ++c) {
+            const V* a = vals + kBlockSize * c;
+            double* xk = x + kBlock * cols[c];
+            for (int w = 0; w < kBlock; ++w) {
+                double s = 0;
+                for (int v = 0; v < kBlock; ++v) s += a[kBlock * v + w] * zi[v];  // L_ik^T z_i
+                xk[w] -= s;
+            }
+        }
+    }
+}
+
+void BlockIlu::solveTranspose(const double* b, double* x) const {
+    const long n = lu_.rows;
+    const long* order = ordering_.order.data();
+    work_.resize(kBlock * static_cast<std::size_t>(n));
+    double* w = work_.data();
+    for (long i = 0; i < n; ++i) {
+        for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
+    }
+    if (single_) {
+        transposeSweeps(values_.data(), w);
+    } else {
+        transposeSweeps(valuesDouble_.data(), w);
+    }
+    for (long i = 0; i < n; ++i) {
+        for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];
+    }
+}
+
 }  // namespace aero::flow

@@ -49,6 +49,9 @@ public:
     /// x = (L U)^-1 b (x and b: 5 per block row; may not alias). Parallel over the ordering's
     /// parts. Uses a work vector of the object: not for concurrent calls on one BlockIlu.
     void solve(const double* b, double* x) const;
+    /// x = ((L U)^T)^-1 b: the transposed preconditioner (the adjoint's, for GMRES on J^T).
+    /// Sequential (a column-oriented sweep over the factors); the same work vector as solve().
+    void solveTranspose(const double* b, double* x) const;
     const std::string& message() const { return message_; }
     long storedBlocks() const { return lu_.blockCount(); }
     const IluOrdering& ordering() const { return ordering_; }
@@ -60,6 +63,8 @@ private:
     void forwardRows(const V* vals, long first, long last, double* x) const;
     template <class V>
     void backwardRows(const V* vals, long first, long last, double* x) const;
+    template <class V>
+    void transposeSweeps(const V* vals, double* x) const;
 
     IluOrdering ordering_;
     std::vector<long> position_;  // position_[original row] = new row

@@ -1,5 +1,6 @@
 #include "flow/Outputs.h"
 
+#include <complex>
 #include <cmath>
 #include <set>
 
@@ -9,11 +10,8 @@
 
 namespace aero::flow {
 
-ForceCoefficients integrateForces(const FlowMesh& fm, const std::vector<double>& metrics,
-                                  const std::vector<double>& x, const std::vector<double>& q,
-                                  const FreeStream& fs, const ForceReference& ref) {
-    const double pinf = fs.pressure();
-    double F[3] = {0, 0, 0}, Mo[3] = {0, 0, 0};
+std::vector<WallNode> wallNodes(const FlowMesh& fm) {
+    std::vector<WallNode> out;
     for (const FlowBlock& blk : fm.blocks) {
         for (int f = 0; f < 6; ++f) {
             if (blk.faces[f].kind != mesh::BoundaryKind::Wall) continue;
@@ -22,21 +20,43 @@ ForceCoefficients integrateForces(const FlowMesh& fm, const std::vector<double>&
                 const int idx[3] = {static_cast<int>(node % blk.dims[0]),
                                     static_cast<int>((node / blk.dims[0]) % blk.dims[1]),
                                     static_cast<int>(node / (static_cast<long>(blk.dims[0]) * blk.dims[1]))};
-                const double h = sbpWeight(idx[a], blk.dims[a]) * sbpWeight(idx[b], blk.dims[b]);
-                const long g = blk.offset + node;
-                double n[3];
-                outwardNormal(&metrics[kMetricWidth * g], f, n);
-                const double dp = pressure(&q[kVars * g], fs.gamma) - pinf;
-                double dF[3];
-                for (int c = 0; c < 3; ++c) {
-                    dF[c] = h * dp * n[c];
-                    F[c] += dF[c];
-                }
-                const double r[3] = {x[3 * g] - ref.point[0], x[3 * g + 1] - ref.point[1], x[3 * g + 2] - ref.point[2]};
-                Mo[0] += r[1] * dF[2] - r[2] * dF[1];
-                Mo[1] += r[2] * dF[0] - r[0] * dF[2];
-                Mo[2] += r[0] * dF[1] - r[1] * dF[0];
+                out.push_back({blk.offset + node, f, sbpWeight(idx[a], blk.dims[a]) * sbpWeight(idx[b], blk.dims[b])});
             }
+        }
+    }
+    return out;
+}
+
+template <class T>
+void wallNodeForce(const WallNode& w, const T* metrics, const T* x, const T* q, const FreeStream& fs,
+                   const std::array<double, 3>& point, T dF[3], T dM[3]) {
+    T n[3];
+    outwardNormal(metrics, w.face, n);
+    const T dp = pressure(q, fs.gamma) - fs.pressure();
+    for (int c = 0; c < 3; ++c) dF[c] = w.weight * dp * n[c];
+    const T r[3] = {x[0] - point[0], x[1] - point[1], x[2] - point[2]};
+    dM[0] = r[1] * dF[2] - r[2] * dF[1];
+    dM[1] = r[2] * dF[0] - r[0] * dF[2];
+    dM[2] = r[0] * dF[1] - r[1] * dF[0];
+}
+
+template void wallNodeForce<double>(const WallNode&, const double*, const double*, const double*, const FreeStream&,
+                                    const std::array<double, 3>&, double*, double*);
+template void wallNodeForce<std::complex<double>>(const WallNode&, const std::complex<double>*, const std::complex<double>*,
+                                                  const std::complex<double>*, const FreeStream&,
+                                                  const std::array<double, 3>&, std::complex<double>*,
+                                                  std::complex<double>*);
+
+ForceCoefficients integrateForces(const FlowMesh& fm, const std::vector<double>& metrics,
+                                  const std::vector<double>& x, const std::vector<double>& q,
+                                  const FreeStream& fs, const ForceReference& ref) {
+    double F[3] = {0, 0, 0}, Mo[3] = {0, 0, 0};
+    for (const WallNode& w : wallNodes(fm)) {
+        double dF[3], dM[3];
+        wallNodeForce(w, &metrics[kMetricWidth * w.node], &x[3 * w.node], &q[kVars * w.node], fs, ref.point, dF, dM);
+        for (int c = 0; c < 3; ++c) {
+            F[c] += dF[c];
+            Mo[c] += dM[c];
         }
     }
     ForceCoefficients c;

@@ -27,6 +27,21 @@ struct ForceCoefficients {
 /// Integrates (p - p_inf) n_out over every wall face: F = sum_faces sum_nodes H_t1 H_t2 (p - p_inf)
 /// n_out, n_out the outward metric vector of the fluid domain (into the body). x: 3 per node,
 /// q: 5 per node, metrics: kMetricWidth per node.
+/// A wall node of one block's wall face, with its SBP surface quadrature weight H_t1 H_t2.
+struct WallNode {
+    long node = 0;     // global node
+    int face = 0;      // the block face (0..5) it lies on
+    double weight = 0;
+};
+std::vector<WallNode> wallNodes(const FlowMesh& fm);
+
+/// One wall node's contribution to the force (p - p_inf) n_out H and its moment about `point`
+/// (not yet divided by q_inf S): metrics, x and q point at this node's values. Templated on the
+/// scalar (double, std::complex<double>) so complex step differentiates the functionals.
+template <class T>
+void wallNodeForce(const WallNode& w, const T* metrics, const T* x, const T* q, const FreeStream& fs,
+                   const std::array<double, 3>& point, T dF[3], T dM[3]);
+
 ForceCoefficients integrateForces(const FlowMesh& fm, const std::vector<double>& metrics,
                                   const std::vector<double>& x, const std::vector<double>& q,
                                   const FreeStream& fs, const ForceReference& ref);

@@ -175,6 +175,38 @@ TEST(BlockIlu, OrderedFactorizationIsExactWithFullFillAndTheSameOnAnyThreadCount
     EXPECT_LT(maxError(A, x1, b), 0.5 * maxError(A, std::vector<double>(b.size(), 0.0), b));
 }
 
+// The adjoint's preconditioner: ((L U)^T)^-1 is exact for a complete factorization (also in a
+// partition ordering), and for an incomplete one it is the transpose of solve():
+// <solveTranspose(a), b> = <a, solve(b)> for any a, b.
+TEST(BlockIlu, TransposedSolveIsExactWithFullFillAndTheAdjointOfSolve) {
+    const BlockSparseMatrix A = gridMatrix(10, 7, 11);
+    const std::vector<double> b = randomVector(kBlock * A.rows, 21);
+    BlockIlu complete;
+    complete.setSinglePrecision(false);
+    complete.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
+    ASSERT_TRUE(complete.factor(A, 40)) << complete.message();
+    std::vector<double> x(b.size()), Atx(b.size());
+    complete.solveTranspose(b.data(), x.data());
+    A.multTranspose(x.data(), Atx.data());
+    double e = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) e = std::max(e, std::abs(Atx[i] - b[i]));
+    EXPECT_LT(e, 1e-11);
+
+    BlockIlu ilu;
+    ilu.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
+    ASSERT_TRUE(ilu.factor(A, 1));
+    const std::vector<double> a = randomVector(kBlock * A.rows, 22);
+    std::vector<double> Ma(b.size()), MTa(b.size()), Mb(b.size());
+    ilu.solve(b.data(), Mb.data());
+    ilu.solveTranspose(a.data(), MTa.data());
+    double lhs = 0, rhs = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+        lhs += MTa[i] * b[i];
+        rhs += a[i] * Mb[i];
+    }
+    EXPECT_NEAR(lhs, rhs, 1e-12 * std::abs(rhs)) << lhs << " vs " << rhs;
+}
+
 TEST(BlockIlu, OrderedFactorizationNamesTheOriginalRowOfASingularPivot) {
     BlockSparseMatrix A = gridMatrix(6, 4, 13);
     const long bad = 2 + 6 * 3;  // in part 0, numbered differently in the ordering

@@ -1,0 +1,125 @@
+#include "adjoint/FlowAdjoint.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "common/Error.h"
+#include "flow/FlowSolver.h"
+#include "flow/Gmres.h"
+#include "flow/Jacobian.h"
+
+namespace aero::adjoint {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double norm(const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x * x;
+    return std::sqrt(s);
+}
+
+}  // namespace
+
+FlowLinearization::FlowLinearization(const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                                     const std::vector<double>& q, const flow::ResidualOptions& o,
+                                     const AdjointOptions& opt)
+    : n_(flow::kVars * fm.nodeCount), opt_(opt) {
+    const auto t0 = std::chrono::steady_clock::now();
+    J_ = flow::jacobianPattern(fm, flow::stencilRadius(o));
+    flow::assembleJacobian(fm, metrics, q.data(), o, J_);
+    // The forward solver's preconditioner at a large CFL: the approximate (lumped, frozen)
+    // Jacobian plus V/dt.
+    flow::ResidualOptions approx = o;
+    approx.lumpedDissipation = true;
+    approx.freezeCoefficients = true;
+    P_ = flow::jacobianPattern(fm, 1);
+    flow::assembleApproximateJacobian(fm, metrics, q.data(), approx, P_);
+    std::vector<double> d = flow::timeStepScale(fm, metrics, q.data(), o.freeStream.gamma);
+    for (double& x : d) x /= opt_.cfl;
+    P_.addDiagonal(d.data());
+    if (opt_.iluParts > 1) {
+        ilu_.setOrdering(flow::partitionOrdering(P_, flow::blockGroups(fm, opt_.iluParts), opt_.iluParts));
+    }
+    if (!ilu_.factor(P_, opt_.iluFill)) throw Error("adjoint preconditioner: " + ilu_.message());
+    secondsAssembly_ = since(t0);
+}
+
+LinearSolveReport FlowLinearization::solve(bool transpose, const std::vector<double>& rhs, std::vector<double>& x) const {
+    const auto t0 = std::chrono::steady_clock::now();
+    LinearSolveReport rep;
+    if (static_cast<long>(rhs.size()) != n_) throw Error("adjoint: right-hand side of the wrong size");
+    if (static_cast<long>(x.size()) != n_) x.assign(n_, 0.0);
+    const flow::LinearMap A = [&](const double* in, double* out) {
+        if (transpose) {
+            J_.multTranspose(in, out);
+        } else {
+            J_.mult(in, out);
+        }
+    };
+    const flow::LinearMap M = [&](const double* in, double* out) {
+        if (transpose) {
+            ilu_.solveTranspose(in, out);
+        } else {
+            ilu_.solve(in, out);
+        }
+    };
+    const flow::GmresReport g =
+        flow::gmres(n_, A, M, rhs.data(), x.data(), {opt_.gmresRestart, opt_.maxIterations, opt_.tolerance, 0.0});
+    rep.iterations = g.iterations;
+    // The true residual, not GMRES's estimate.
+    std::vector<double> r(n_);
+    A(x.data(), r.data());
+    for (long i = 0; i < n_; ++i) r[i] = rhs[i] - r[i];
+    const double b = norm(rhs);
+    rep.relativeResidual = b > 0 ? norm(r) / b : 0.0;
+    // GMRES's estimate reaches the tolerance; the true residual may be a little above it.
+    if (rep.relativeResidual <= 10 * opt_.tolerance) {
+        rep.status = LinearStatus::Converged;
+    } else {
+        rep.message = std::string(transpose ? "adjoint" : "tangent") + " GMRES reached a relative residual of " +
+                      std::to_string(rep.relativeResidual) + " in " + std::to_string(g.iterations) +
+                      " iterations (tolerance " + std::to_string(opt_.tolerance) + ")";
+    }
+    rep.seconds = since(t0);
+    return rep;
+}
+
+LinearSolveReport FlowLinearization::solveAdjoint(const std::vector<double>& rhs, std::vector<double>& psi) const {
+    return solve(true, rhs, psi);
+}
+
+LinearSolveReport FlowLinearization::solveTangent(const std::vector<double>& rhs, std::vector<double>& dq) const {
+    return solve(false, rhs, dq);
+}
+
+AdjointSolution solveAdjoint(const FlowLinearization& lin, Functional f, const flow::FlowMesh& fm,
+                             const std::vector<double>& metrics, const std::vector<double>& x,
+                             const std::vector<double>& q, const flow::FreeStream& fs, const flow::ForceReference& ref) {
+    AdjointSolution a;
+    a.functional = f;
+    std::vector<double> rhs = stateGradient(f, fm, metrics, x, q, fs, ref);
+    for (double& v : rhs) v = -v;
+    a.report = lin.solveAdjoint(rhs, a.psi);
+    return a;
+}
+
+double alphaDerivative(const AdjointSolution& a, const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                       const std::vector<double>& q, const flow::ResidualOptions& o,
+                       const flow::ForceCoefficients& forces) {
+    constexpr double h = 1e-4;  // degrees
+    flow::ResidualOptions plus = o, minus = o;
+    plus.freeStream.alphaDeg += h;
+    minus.freeStream.alphaDeg -= h;
+    std::vector<double> rp(q.size()), rm(q.size());
+    flow::residual(fm, metrics.data(), q.data(), plus, rp.data());
+    flow::residual(fm, metrics.data(), q.data(), minus, rm.data());
+    double s = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) s += a.psi[i] * (rp[i] - rm[i]) / (2 * h);
+    return alphaPartial(a.functional, forces) + s;
+}
+
+}  // namespace aero::adjoint
