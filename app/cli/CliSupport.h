@@ -56,6 +56,7 @@ int runDeform(const std::string& casePath, bool json, bool list);
 /// The mesh command's work (also `aeroform --batch CASE` for cases with a "mesh" section).
 int runMesh(const std::string& casePath, bool json);
 /// The flow command's work (also `aeroform --batch CASE` for cases with a "flow" section).
-int runFlow(const std::string& casePath, const std::string& restart, bool json);
+int runFlow(const std::string& casePath, const std::string& restart, bool json,
+            const std::vector<std::string>& adjoints = {});
 
 }  // namespace aero::app

@@ -13,7 +13,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
+#include "adjoint/FlowAdjoint.h"
 #include "cli/CliSupport.h"
 #include "common/Memory.h"
 #include "flow/FlowMesh.h"
@@ -31,7 +33,7 @@ namespace aero::app {
 namespace {
 
 const char* kFlowHelp =
-    "usage: aeroform-cli flow CASE.json [--restart FILE] [--json]\n"
+    "usage: aeroform-cli flow CASE.json [--restart FILE] [--adjoint LIST] [--json]\n"
     "\n"
     "Solves the Euler equations around the case's geometry: the first FFD level deforms it (if the\n"
     "case has lattices), the grid is generated and moved (case key \"mesh\"), then the flow is\n"
@@ -45,6 +47,9 @@ const char* kFlowHelp =
     "printed; outputs are still written).\n"
     "\n"
     "  --restart FILE  start from this restart file (same grid) instead of the free stream\n"
+    "  --adjoint LIST  after a converged solve, the discrete adjoint of each functional of LIST\n"
+    "                  (comma-separated: CL, CD, CM, CY) and its derivative with respect to the\n"
+    "                  angle of attack, per degree (exit 1 if an adjoint does not converge)\n"
     "  --json          print one JSON summary on stdout (converged, status, orders_reduced,\n"
     "                  newton_iterations, linear_iterations, CL, CD, CM, seconds, grid_nodes,\n"
     "                  peak_memory_mb, ...)\n"
@@ -70,7 +75,7 @@ double tidy(double x) { return std::abs(x) < 1e-12 ? 0.0 : x; }
 
 }  // namespace
 
-int runFlow(const std::string& casePath, const std::string& restartArg, bool json) {
+int runFlow(const std::string& casePath, const std::string& restartArg, bool json, const std::vector<std::string>& adjoints) {
     return guarded("flow", [&] {
         const auto t0 = std::chrono::steady_clock::now();
         const io::CaseFile c = io::readCase(casePath);
@@ -176,6 +181,40 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         }
         for (const auto& [key, file] : outputs.items()) say("wrote " + file.get<std::string>());
 
+        // Adjoints of the converged state (libcore/adjoint): one linearization, one solve each.
+        nlohmann::ordered_json adjointJson = nlohmann::ordered_json::array();
+        bool adjointsOk = true;
+        double secondsLinearization = 0;
+        if (!adjoints.empty() && rep.converged()) {
+            std::vector<adjoint::Functional> functionals;
+            for (const std::string& name : adjoints) functionals.push_back(adjoint::functionalByName(name));
+            say("adjoint: assembling the exact Jacobian and the preconditioner");
+            const adjoint::FlowLinearization lin(fm, fr.metrics, fr.q, fr.residualOptions);
+            secondsLinearization = lin.secondsAssembly();
+            std::snprintf(buf, sizeof buf, "adjoint: linearization assembled in %.1f s", secondsLinearization);
+            say(buf);
+            for (adjoint::Functional fn : functionals) {
+                const adjoint::AdjointSolution a = adjoint::solveAdjoint(lin, fn, fm, fr.metrics, fr.x, fr.q,
+                                                                         fr.residualOptions.freeStream, run.flow.reference);
+                const double dAlpha = adjoint::alphaDerivative(a, fm, fr.metrics, fr.q, fr.residualOptions, f);
+                std::snprintf(buf, sizeof buf, "adjoint of %s: %s, %d GMRES iterations, relative residual %.2e, %.1f s; d%s/dalpha %.6g per degree",
+                              adjoint::functionalName(fn), a.report.converged() ? "converged" : "NOT converged", a.report.iterations,
+                              a.report.relativeResidual, a.report.seconds, adjoint::functionalName(fn), dAlpha);
+                say(buf);
+                if (!a.report.converged()) say("  why: " + a.report.message);
+                adjointsOk = adjointsOk && a.report.converged();
+                adjointJson.push_back({{"functional", adjoint::functionalName(fn)},
+                                       {"converged", a.report.converged()},
+                                       {"gmres_iterations", a.report.iterations},
+                                       {"relative_residual", a.report.relativeResidual},
+                                       {"seconds", a.report.seconds},
+                                       {"value", adjoint::functionalValue(fn, f)},
+                                       {"d_dalpha_per_degree", dAlpha}});
+            }
+        } else if (!adjoints.empty()) {
+            say("adjoint: skipped, the flow did not converge");
+            adjointsOk = false;
+        }
         const double orders = rep.finalResidual > 0 ? std::log10(rep.initialResidual / rep.finalResidual) : 16.0;
         const double peak = peakMemoryMb();
         if (json) {
@@ -223,6 +262,10 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["seconds"] = since(t0);
             j["peak_memory_mb"] = peak;
             j["outputs"] = outputs;
+            if (!adjoints.empty()) {
+                j["adjoint"] = adjointJson;
+                j["seconds_adjoint_linearization"] = secondsLinearization;
+            }
             std::printf("%s\n", j.dump(2).c_str());
         }
         std::snprintf(buf, sizeof buf, "done in %.1f s (solver %.1f s), peak memory %.0f MB", since(t0), rep.seconds, peak);
@@ -230,7 +273,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         if (rep.status == flow::FlowStatus::Cancelled) {
             say("continue with: aeroform-cli flow " + casePath + " --restart " + restartTo);
         }
-        return rep.converged() ? kOk : kFailed;
+        return rep.converged() && adjointsOk ? kOk : kFailed;
     });
 }
 
@@ -250,9 +293,24 @@ int cmdFlow(const Args& args) {
     std::vector<std::string> pos;
     std::map<std::string, std::string> val;
     std::string err;
-    if (!parse(args, {"--json"}, {"--restart"}, pos, val, err)) return usageError("flow", err, kFlowHelp);
+    if (!parse(args, {"--json"}, {"--restart", "--adjoint"}, pos, val, err)) return usageError("flow", err, kFlowHelp);
     if (pos.size() != 1) return usageError("flow", "expected exactly one CASE file", kFlowHelp);
-    return runFlow(pos[0], val.count("--restart") ? val["--restart"] : "", val.count("--json") > 0);
+    std::vector<std::string> adjoints;
+    if (val.count("--adjoint")) {
+        std::stringstream in(val["--adjoint"]);
+        std::string item;
+        while (std::getline(in, item, ',')) {
+            if (item.empty()) continue;
+            try {
+                (void)adjoint::functionalByName(item);
+            } catch (const CaseError& e) {
+                return usageError("flow", std::string("--adjoint: ") + e.what(), kFlowHelp);
+            }
+            adjoints.push_back(item);
+        }
+        if (adjoints.empty()) return usageError("flow", "--adjoint needs at least one functional (CL, CD, CM, CY)", kFlowHelp);
+    }
+    return runFlow(pos[0], val.count("--restart") ? val["--restart"] : "", val.count("--json") > 0, adjoints);
 }
 
 }  // namespace aero::app

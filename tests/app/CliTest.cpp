@@ -383,3 +383,28 @@ TEST(Cli, BatchModeReportsABadCaseLikeTheCli) {
     EXPECT_EQ(run("--batch", AEROFORM_GUI_BIN).code, 2);
 }
 #endif
+
+// aeroform-cli flow --adjoint: the adjoints of the converged state and dJ/dalpha, in the JSON
+// summary (their accuracy against converged flows is tests/adjoint's).
+TEST(Cli, FlowAdjointReportsConvergedAdjointsAndAlphaDerivatives) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/bwb_flow.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["output"] = nlohmann::json::object();
+    const std::string path = tmp("adjoint_case.json");
+    std::ofstream(path) << c.dump(1);
+    const Result r = run("flow '" + path + "' --adjoint CL,CD --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["adjoint"].size(), 2u);
+    EXPECT_EQ(j["adjoint"][0]["functional"], "CL");
+    EXPECT_TRUE(j["adjoint"][0]["converged"].get<bool>());
+    EXPECT_LT(j["adjoint"][0]["relative_residual"].get<double>(), 1e-9);
+    EXPECT_EQ(j["adjoint"][0]["value"].get<double>(), j["CL"].get<double>());
+    EXPECT_EQ(j["adjoint"][1]["value"].get<double>(), j["CD"].get<double>());
+    EXPECT_TRUE(std::isfinite(j["adjoint"][1]["d_dalpha_per_degree"].get<double>()));
+    EXPECT_NE(r.err.find("adjoint of CD: converged"), std::string::npos) << r.err;
+    const Result bad = run("flow '" + path + "' --adjoint LD");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("unknown functional 'LD'"), std::string::npos) << bad.err;
+}
