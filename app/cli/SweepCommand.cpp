@@ -3,17 +3,20 @@
 // (--random, a fixed seed; a draw whose lattice is not injective or whose grid folds is redrawn and
 // counted). One row per design: status, forces, the largest Mach number and where, iterations,
 // GMRES iterations, time, peak memory; exit 1 unless every design converged.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli/CliSupport.h"
 #include "common/Memory.h"
+#include "io/CaseWriter.h"
 #include "study/CaseEvaluator.h"
 #include "study/DesignSweep.h"
 #include "study/GeometryFiles.h"
@@ -43,6 +46,8 @@ const char* kSweepHelp =
     "  --spread X        fraction of each variable's range (default 0.5)\n"
     "  --max-draws N     random draws tried per design before giving up (default 20000)\n"
     "  --feasible        random draws within the case's linear constraints\n"
+    "  --cases DIR       write each design as a case file DIR/<design>.json (its values), to\n"
+    "                    look at or re-run one with aeroform-cli flow/mesh/deform\n"
     "  --no-flow         shapes and grids only: how many draws are valid, without solving\n"
     "  --warm            warm-start every design from the last converged one\n"
     "  --csv FILE        one row per design\n"
@@ -88,7 +93,8 @@ struct Row {
 }  // namespace
 
 int runSweep(const std::string& casePath, const std::vector<double>& fractions, int random, std::uint64_t seed,
-             double spread, int maxDraws, bool feasible, bool noFlow, bool warm, const std::string& csvPath, bool json) {
+             double spread, int maxDraws, bool feasible, bool noFlow, bool warm, const std::string& csvPath,
+             const std::string& casesDir, bool json) {
     return guarded("sweep", [&] {
         const io::CaseFile c = io::readCase(casePath);
         if (!c.flow.present) throw CaseError("'" + casePath + "': the case has no \"flow\" section to sweep");
@@ -125,6 +131,28 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
                 }
                 if (draw.rejected > 0) say(row.label + ": " + std::to_string(draw.rejected) + " draw(s) redrawn; the last: " + draw.lastReason);
                 v = draw.values;
+            }
+            if (!casesDir.empty() && ev.model()) {
+                // The design as a case of its own (values by name; outputs dropped).
+                io::CaseFile one = c;
+                one.values.clear();
+                const auto& vars = ev.model()->design().variables();
+                for (std::size_t i = 0; i < v.size(); ++i) {
+                    if (v[i] != vars[i].baseline) one.values[vars[i].name] = v[i];
+                }
+                one.description = "design '" + row.label + "' of aeroform-cli sweep " + casePath;
+                one.outputGeometry.clear();
+                one.outputVtk.clear();
+                one.outputMeshVtk.clear();
+                one.outputControlVtk.clear();
+                one.outputPlot3d.clear();
+                one.outputFlowVtk.clear();
+                one.outputResidualCsv.clear();
+                one.outputRestart.clear();
+                std::string file = row.label;
+                std::replace(file.begin(), file.end(), ' ', '_');
+                std::filesystem::create_directories(casesDir);
+                io::writeCase(one, (std::filesystem::path(casesDir) / (file + ".json")).string());
             }
             study::EvaluationRequest rq;
             rq.warmStart = warm;
@@ -217,7 +245,7 @@ int cmdSweep(const Args& args) {
     std::vector<std::string> pos;
     std::map<std::string, std::string> val;
     std::string err;
-    if (!parse(args, {"--json", "--warm", "--feasible", "--no-flow"}, {"--fractions", "--random", "--seed", "--spread", "--csv", "--max-draws"}, pos, val, err)) {
+    if (!parse(args, {"--json", "--warm", "--feasible", "--no-flow"}, {"--fractions", "--random", "--seed", "--spread", "--csv", "--max-draws", "--cases"}, pos, val, err)) {
         return usageError("sweep", err, kSweepHelp);
     }
     if (pos.size() != 1) return usageError("sweep", "expected exactly one CASE file", kSweepHelp);
@@ -236,7 +264,7 @@ int cmdSweep(const Args& args) {
         return usageError("sweep", std::string("bad option value: ") + e.what(), kSweepHelp);
     }
     if (random < 0 || !(spread >= 0) || maxDraws < 1) return usageError("sweep", "--random and --spread must not be negative", kSweepHelp);
-    return runSweep(pos[0], fractions, random, seed, spread, maxDraws, val.count("--feasible") > 0, val.count("--no-flow") > 0, val.count("--warm") > 0, val.count("--csv") ? val["--csv"] : "",
+    return runSweep(pos[0], fractions, random, seed, spread, maxDraws, val.count("--feasible") > 0, val.count("--no-flow") > 0, val.count("--warm") > 0, val.count("--csv") ? val["--csv"] : "", val.count("--cases") ? val["--cases"] : "",
                     val.count("--json") > 0);
 }
 

@@ -354,12 +354,18 @@ TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
     EXPECT_EQ(n, 3);  // header + 2 designs
     EXPECT_NE(r.err.find("2 of 2 designs converged"), std::string::npos) << r.err;
 
-    const Result shapes = run("sweep '" + path + "' --fractions \"\" --random 2 --spread 0.1 --feasible --no-flow --json");
+    const std::string cases = outputPath("cli_sweep_cases");
+    std::filesystem::remove_all(cases);
+    const Result shapes = run("sweep '" + path + "' --fractions \"\" --random 2 --spread 0.1 --feasible --no-flow --json --cases '" + cases + "'");
     ASSERT_EQ(shapes.code, 0) << shapes.err;
     const auto js = nlohmann::json::parse(shapes.out);
     EXPECT_EQ(js["converged"], 2);
     EXPECT_TRUE(js.contains("redrawn_linear_constraint"));
     EXPECT_NE(shapes.err.find("2 of 2 designs valid"), std::string::npos) << shapes.err;
+    // Each design as a case of its own, which the other commands take.
+    ASSERT_TRUE(std::filesystem::exists(cases + "/random_2.json"));
+    const Result again = run("deform '" + cases + "/random_2.json' --json");
+    EXPECT_EQ(again.code, 0) << again.err;
 
     EXPECT_EQ(run("sweep '" + path + "' --spread -1").code, 2);
     EXPECT_EQ(run("sweep '" + path + "' --random x").code, 2);
