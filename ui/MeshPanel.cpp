@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "QualityHistogram.h"
+#include "io/Options.h"
 #include "Text.h"
 
 namespace aero::ui {
@@ -64,11 +65,12 @@ MeshPanel::MeshPanel(QWidget* parent) : QWidget(parent) {
     form->addRow(tr("&Level"), level_);
     increments_ = new QSpinBox(grid);
     increments_->setObjectName(QStringLiteral("meshIncrements"));
-    increments_->setRange(1, 100);
+    // Range and description from the case file's option table: the panel accepts what the case
+    // parser accepts.
+    const io::OptionSpec& inc = io::findOption(io::meshOptions(), "increments").spec;
+    increments_->setRange(static_cast<int>(inc.lower), static_cast<int>(inc.upper));
     increments_->setKeyboardTracking(false);
-    increments_->setToolTip(
-        tr("The control grid follows the wall in this many elasticity steps (m of Eq. 7; "
-           "mesh.increments). More steps survive larger deformations. Undoable."));
+    increments_->setToolTip(tr("mesh.increments: %1. Undoable.").arg(QString::fromStdString(inc.description)));
     form->addRow(tr("&Increments"), increments_);
     gridLayout->addLayout(form);
     run_ = new QPushButton(tr("Preview Mesh"), grid);

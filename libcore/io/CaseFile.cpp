@@ -132,6 +132,39 @@ int latticeRef(const Ctx& ctx, const json& v, const std::string& key, const std:
     ctx.fail(key, "no lattice named '" + name + "'");
 }
 
+// The keys of one section that an option table describes: type, range (the table's message) and
+// the setter, in the table's order.
+template <class S>
+void readOptions(const Ctx& ctx, const json& j, const std::string& section, const std::vector<Option<S>>& options, S& out) {
+    for (const auto& o : options) {
+        if (!j.contains(o.spec.key)) continue;
+        const std::string key = section + "." + o.spec.key;
+        const json& v = j[o.spec.key];
+        OptionValue value;
+        switch (o.spec.kind) {
+            case OptionKind::Number:
+                value = ctx.number(v, key);
+                break;
+            case OptionKind::Integer:
+                if (!v.is_number_integer()) ctx.fail(key, std::string("expected an integer, found ") + v.type_name());
+                value = static_cast<long>(std::clamp<long long>(v.get<long long>(), -(1LL << 53), 1LL << 53));
+                break;
+            case OptionKind::Boolean:
+                value = ctx.boolean(v, key);
+                break;
+            case OptionKind::Choice:
+                value = ctx.string(v, key);
+                break;
+            case OptionKind::Point:
+                value = ctx.numbers<3>(v, key);
+                break;
+        }
+        const std::string why = o.spec.check(value);
+        if (!why.empty()) ctx.fail(key, why);
+        o.set(out, value);
+    }
+}
+
 }  // namespace
 
 CaseFile parseCase(const std::string& text, const std::string& path) {
@@ -379,42 +412,12 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     if (doc.contains("mesh")) {
         const json& j = doc["mesh"];
-        ctx.keys(j, "mesh", {"level", "farfield_radius", "radial_control_points", "control_wall_spacing", "surface_nodes",
-                             "radial_nodes", "grid_wall_spacing", "refine", "increments", "poisson", "size_stiffening",
-                             "orthogonality_stiffening", "tolerance"});
+        std::vector<std::string> allowed;
+        for (const auto& o : meshOptions()) allowed.push_back(o.spec.key);
+        ctx.keys(j, "mesh", allowed);
         MeshCase& mc = c.mesh;
         mc.present = true;
-        if (j.contains("level")) {
-            mc.level = ctx.string(j["level"], "mesh.level");
-            if (mc.level != "coarse" && mc.level != "medium" && mc.level != "paper") {
-                ctx.fail("mesh.level", "unknown level '" + mc.level + "' (expected coarse, medium or paper)");
-            }
-            mc.extrusion = mesh::extrusionLevel(mc.level);
-        }
-        auto positive = [&](const char* key, double& out) {
-            if (!j.contains(key)) return;
-            out = ctx.number(j[key], std::string("mesh.") + key);
-            if (!(out > 0)) ctx.fail(std::string("mesh.") + key, "must be positive");
-        };
-        positive("farfield_radius", mc.extrusion.farfieldRadius);
-        if (mc.extrusion.farfieldRadius <= 1) ctx.fail("mesh.farfield_radius", "must exceed 1 body radius");
-        positive("control_wall_spacing", mc.extrusion.controlWallSpacing);
-        positive("grid_wall_spacing", mc.extrusion.gridWallSpacing);
-        positive("refine", mc.extrusion.refine);
-        positive("tolerance", mc.elasticity.tolerance);
-        if (j.contains("radial_control_points")) mc.extrusion.radialControlPoints = ctx.integer(j["radial_control_points"], "mesh.radial_control_points", 4, 1000);
-        if (j.contains("surface_nodes")) mc.extrusion.surfaceNodes = ctx.integer(j["surface_nodes"], "mesh.surface_nodes", 2, 10000);
-        if (j.contains("radial_nodes")) mc.extrusion.radialNodes = ctx.integer(j["radial_nodes"], "mesh.radial_nodes", 2, 10000);
-        if (j.contains("increments")) mc.elasticity.increments = ctx.integer(j["increments"], "mesh.increments", 1, 1000);
-        if (j.contains("poisson")) {
-            mc.elasticity.poisson = ctx.number(j["poisson"], "mesh.poisson");
-            if (!(mc.elasticity.poisson > -1 && mc.elasticity.poisson < 0.5)) ctx.fail("mesh.poisson", "must lie in (-1, 0.5)");
-        }
-        if (j.contains("size_stiffening")) mc.elasticity.sizeStiffening = ctx.number(j["size_stiffening"], "mesh.size_stiffening");
-        if (j.contains("orthogonality_stiffening")) {
-            mc.elasticity.orthogonalityStiffening = ctx.number(j["orthogonality_stiffening"], "mesh.orthogonality_stiffening");
-            if (mc.elasticity.orthogonalityStiffening < 0) ctx.fail("mesh.orthogonality_stiffening", "must be >= 0");
-        }
+        readOptions(ctx, j, "mesh", meshOptions(), mc);
     }
     if (doc.contains("flow")) {
         const json& j = doc["flow"];
@@ -424,33 +427,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         ctx.keys(j, "flow", allowed);
         FlowCase& fc = c.flow;
         fc.present = true;
-        for (const auto& o : flowOptions()) {
-            if (!j.contains(o.spec.key)) continue;
-            const std::string key = "flow." + o.spec.key;
-            const json& v = j[o.spec.key];
-            OptionValue value;
-            switch (o.spec.kind) {
-                case OptionKind::Number:
-                    value = ctx.number(v, key);
-                    break;
-                case OptionKind::Integer:
-                    if (!v.is_number_integer()) ctx.fail(key, std::string("expected an integer, found ") + v.type_name());
-                    value = static_cast<long>(std::clamp<long long>(v.get<long long>(), -(1LL << 53), 1LL << 53));
-                    break;
-                case OptionKind::Boolean:
-                    value = ctx.boolean(v, key);
-                    break;
-                case OptionKind::Choice:
-                    value = ctx.string(v, key);
-                    break;
-                case OptionKind::Point:
-                    value = ctx.numbers<3>(v, key);
-                    break;
-            }
-            const std::string why = o.spec.check(value);
-            if (!why.empty()) ctx.fail(key, why);
-            o.set(fc, value);
-        }
+        readOptions(ctx, j, "flow", flowOptions(), fc);
         if (j.contains("restart")) fc.restart = resolve(path, ctx.string(j["restart"], "flow.restart"));
     }
     if (doc.contains("output")) {

@@ -162,22 +162,11 @@ Json caseJson(const CaseFile& c) {
     }
     doc["constraints"] = std::move(k);
     if (c.mesh.present) {
-        // The level names the defaults; every option the format knows is written explicitly.
-        const mesh::ExtrusionOptions& e = c.mesh.extrusion;
-        const mesh::ElasticityOptions& m = c.mesh.elasticity;
-        doc["mesh"] = {{"level", c.mesh.level},
-                       {"farfield_radius", e.farfieldRadius},
-                       {"radial_control_points", e.radialControlPoints},
-                       {"control_wall_spacing", e.controlWallSpacing},
-                       {"surface_nodes", e.surfaceNodes},
-                       {"radial_nodes", e.radialNodes},
-                       {"grid_wall_spacing", e.gridWallSpacing},
-                       {"refine", e.refine},
-                       {"increments", m.increments},
-                       {"poisson", m.poisson},
-                       {"size_stiffening", m.sizeStiffening},
-                       {"orthogonality_stiffening", m.orthogonalityStiffening},
-                       {"tolerance", m.tolerance}};
+        // The level names the defaults; every option of the table is written explicitly (the
+        // level first, so reading it back applies the level before the overrides).
+        Json j = Json::object();
+        for (const auto& opt : meshOptions()) std::visit([&](const auto& v) { j[opt.spec.key] = v; }, opt.get(c.mesh));
+        doc["mesh"] = std::move(j);
     }
     if (c.flow.present) {
         const FlowCase& f = c.flow;

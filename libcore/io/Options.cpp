@@ -18,31 +18,41 @@ std::string number(double x) {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Table entries, one line each: a real in a range, an integer in a range, a switch, a choice.
-template <class F>
-Option<FlowCase> real(const char* key, const char* unit, double lo, bool loClosed, double hi, bool hiClosed, F&& field,
-                      const char* description) {
-    Option<FlowCase> o;
+// `field` maps the struct to the member (S& -> T&); the getter reads through it on a copy.
+template <class S, class F>
+Option<S> real(const char* key, const char* unit, double lo, bool loClosed, double hi, bool hiClosed, F field,
+               const char* description) {
+    Option<S> o;
     o.spec = {key, description, unit, OptionKind::Number, lo, hi, loClosed, hiClosed, {}};
-    o.get = [field](const FlowCase& c) { return OptionValue(field(const_cast<FlowCase&>(c))); };
-    o.set = [field](FlowCase& c, const OptionValue& v) { field(c) = std::get<double>(v); };
+    o.get = [field](const S& c) {
+        S copy = c;
+        return OptionValue(static_cast<double>(field(copy)));
+    };
+    o.set = [field](S& c, const OptionValue& v) { field(c) = std::get<double>(v); };
     return o;
 }
 
-template <class F>
-Option<FlowCase> integer(const char* key, long lo, long hi, F&& field, const char* description) {
-    Option<FlowCase> o;
+template <class S, class F>
+Option<S> integer(const char* key, long lo, long hi, F field, const char* description) {
+    Option<S> o;
     o.spec = {key, description, "", OptionKind::Integer, static_cast<double>(lo), static_cast<double>(hi), true, true, {}};
-    o.get = [field](const FlowCase& c) { return OptionValue(static_cast<long>(field(const_cast<FlowCase&>(c)))); };
-    o.set = [field](FlowCase& c, const OptionValue& v) { field(c) = static_cast<int>(std::get<long>(v)); };
+    o.get = [field](const S& c) {
+        S copy = c;
+        return OptionValue(static_cast<long>(field(copy)));
+    };
+    o.set = [field](S& c, const OptionValue& v) { field(c) = static_cast<int>(std::get<long>(v)); };
     return o;
 }
 
-template <class F>
-Option<FlowCase> boolean(const char* key, F&& field, const char* description) {
-    Option<FlowCase> o;
+template <class S, class F>
+Option<S> boolean(const char* key, F field, const char* description) {
+    Option<S> o;
     o.spec = {key, description, "", OptionKind::Boolean, 0, 0, true, true, {}};
-    o.get = [field](const FlowCase& c) { return OptionValue(static_cast<bool>(field(const_cast<FlowCase&>(c)))); };
-    o.set = [field](FlowCase& c, const OptionValue& v) { field(c) = std::get<bool>(v); };
+    o.get = [field](const S& c) {
+        S copy = c;
+        return OptionValue(static_cast<bool>(field(copy)));
+    };
+    o.set = [field](S& c, const OptionValue& v) { field(c) = std::get<bool>(v); };
     return o;
 }
 
@@ -97,19 +107,19 @@ std::string formatOptionValue(const OptionValue& v) {
 const std::vector<Option<FlowCase>>& flowOptions() {
     static const std::vector<Option<FlowCase>> options = [] {
         std::vector<Option<FlowCase>> o;
-        o.push_back(real("mach", "", 0, false, 10, false, [](FlowCase& c) -> double& { return c.freeStream.mach; },
+        o.push_back(real<FlowCase>("mach", "", 0, false, 10, false, [](FlowCase& c) -> double& { return c.freeStream.mach; },
                                    "free-stream Mach number"));
-        o.push_back(real("alpha", "degrees", -90, false, 90, false,
+        o.push_back(real<FlowCase>("alpha", "degrees", -90, false, 90, false,
                                    [](FlowCase& c) -> double& { return c.freeStream.alphaDeg; },
                                    "angle of attack; the free stream is M (cos a, 0, sin a): X downstream, Z up, Y normal "
                                    "to the symmetry plane"));
-        o.push_back(real("gamma", "", 1, false, 3, false, [](FlowCase& c) -> double& { return c.freeStream.gamma; },
+        o.push_back(real<FlowCase>("gamma", "", 1, false, 3, false, [](FlowCase& c) -> double& { return c.freeStream.gamma; },
                                    "ratio of specific heats"));
-        o.push_back(real("reference_area", "length^2", 0, false, kInf, false,
+        o.push_back(real<FlowCase>("reference_area", "length^2", 0, false, kInf, false,
                                    [](FlowCase& c) -> double& { return c.reference.area; },
                                    "S_ref of the coefficients (default: the half-sphere's half frontal disc, pi/2; the "
                                    "grid's half body when a symmetry plane halves it)"));
-        o.push_back(real("reference_length", "length", 0, false, kInf, false,
+        o.push_back(real<FlowCase>("reference_length", "length", 0, false, kInf, false,
                                    [](FlowCase& c) -> double& { return c.reference.length; },
                                    "c_ref of the moment coefficient"));
         {
@@ -136,43 +146,101 @@ const std::vector<Option<FlowCase>>& flowOptions() {
             };
             o.push_back(std::move(s));
         }
-        o.push_back(real("kappa2", "", 0, true, 10, false, [](FlowCase& c) -> double& { return c.dissipation.kappa2; },
+        o.push_back(real<FlowCase>("kappa2", "", 0, true, 10, false, [](FlowCase& c) -> double& { return c.dissipation.kappa2; },
                                    "second-difference dissipation coefficient (shocks, scaled by the pressure switch)"));
-        o.push_back(real("kappa4", "", 0, true, 1, false, [](FlowCase& c) -> double& { return c.dissipation.kappa4; },
+        o.push_back(real<FlowCase>("kappa4", "", 0, true, 1, false, [](FlowCase& c) -> double& { return c.dissipation.kappa4; },
                                    "fourth-difference (background) dissipation coefficient"));
-        o.push_back(boolean("grid_aware_dissipation", [](FlowCase& c) -> bool& { return c.dissipation.gridAware; },
+        o.push_back(boolean<FlowCase>("grid_aware_dissipation", [](FlowCase& c) -> bool& { return c.dissipation.gridAware; },
                             "the fourth difference scaled by the grid's own spacing ratio in each direction, so on a "
                             "stretched grid it does not act as a first-order wall friction; false: the index-space "
                             "operator"));
-        o.push_back(real("tolerance", "", 0, false, 1, false,
+        o.push_back(real<FlowCase>("tolerance", "", 0, false, 1, false,
                                    [](FlowCase& c) -> double& { return c.newton.relativeTolerance; },
                                    "stop when the residual has fallen by this factor (relative to the free stream's "
                                    "residual on the grid, or to the first run's when restarted)"));
-        o.push_back(integer("max_iterations", 1, 100000, [](FlowCase& c) -> int& { return c.newton.maxIterations; },
+        o.push_back(integer<FlowCase>("max_iterations", 1, 100000, [](FlowCase& c) -> int& { return c.newton.maxIterations; },
                             "nonlinear iterations"));
-        o.push_back(real("cfl0", "", 0, false, 1e12, false, [](FlowCase& c) -> double& { return c.newton.cfl0; },
+        o.push_back(real<FlowCase>("cfl0", "", 0, false, 1e12, false, [](FlowCase& c) -> double& { return c.newton.cfl0; },
                                    "initial CFL number (the CFL also grows as R0/R)"));
-        o.push_back(real("cfl_growth", "", 1, true, 100, false,
+        o.push_back(real<FlowCase>("cfl_growth", "", 1, true, 100, false,
                                    [](FlowCase& c) -> double& { return c.newton.cflGrowth; },
                                    "growth of the CFL base per full step"));
-        o.push_back(real("linear_tolerance", "", 0, false, 1, false,
+        o.push_back(real<FlowCase>("linear_tolerance", "", 0, false, 1, false,
                                    [](FlowCase& c) -> double& { return c.newton.linearTolerance; },
                                    "GMRES relative tolerance per nonlinear iteration"));
-        o.push_back(integer("ilu_fill", 0, 4, [](FlowCase& c) -> int& { return c.newton.iluFill; },
+        o.push_back(integer<FlowCase>("ilu_fill", 0, 4, [](FlowCase& c) -> int& { return c.newton.iluFill; },
                             "level of fill of the block ILU preconditioner"));
-        o.push_back(integer("ilu_parts", 1, 64, [](FlowCase& c) -> int& { return c.newton.preconditionerParts; },
+        o.push_back(integer<FlowCase>("ilu_parts", 1, 64, [](FlowCase& c) -> int& { return c.newton.preconditionerParts; },
                             "the ILU is factored and applied in this many groups of mesh blocks in parallel, their "
                             "coupling kept through a separator ordered last (1 = natural order, sequential); fixed per "
                             "case rather than taken from the thread count, so a run takes the same iterations on any "
                             "machine"));
-        o.push_back(real("lumping", "", 0, false, 1000, false,
+        o.push_back(real<FlowCase>("lumping", "", 0, false, 1000, false,
                                    [](FlowCase& c) -> double& { return c.dissipation.lumping; },
                                    "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "
                                    "to the second difference); smaller is closer to the real operator but less "
                                    "diagonally dominant"));
-        o.push_back(boolean("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
+        o.push_back(boolean<FlowCase>("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
                             "a cold start first converges on half the grid intervals of the same analytic grid (exact "
                             "prolongation in the grid parameters), then on the case's grid"));
+        return o;
+    }();
+    return options;
+}
+
+const std::vector<Option<MeshCase>>& meshOptions() {
+    static const std::vector<Option<MeshCase>> options = [] {
+        std::vector<Option<MeshCase>> o;
+        {
+            // First in the table: the parser applies the level before the keys that override it.
+            Option<MeshCase> l;
+            l.spec = {"level",
+                      "the named grid level; the keys below override its values. coarse: 98,260 nodes on the "
+                      "half-sphere, wall spacing 1e-2 (the optimization grid); medium: 306,820, wall spacing 1e-3; "
+                      "paper: 903,340 (13,546 control nodes), wall spacing 1e-3 as the paper. No level has a spacing "
+                      "jump between the wall layer and the radial distribution",
+                      "", OptionKind::Choice, 0, 0, true, true, {"coarse", "medium", "paper"}};
+            l.get = [](const MeshCase& m) { return OptionValue(m.level); };
+            l.set = [](MeshCase& m, const OptionValue& v) {
+                m.level = std::get<std::string>(v);
+                m.extrusion = mesh::extrusionLevel(m.level);
+            };
+            o.push_back(std::move(l));
+        }
+        o.push_back(real<MeshCase>("farfield_radius", "body radii", 1, false, 1e6, false,
+                                   [](MeshCase& m) -> double& { return m.extrusion.farfieldRadius; },
+                                   "farfield sphere radius"));
+        o.push_back(integer<MeshCase>("radial_control_points", 4, 1000,
+                                      [](MeshCase& m) -> int& { return m.extrusion.radialControlPoints; },
+                                      "control nodes per wall-to-farfield column (medium 18, paper 26)"));
+        o.push_back(real<MeshCase>("control_wall_spacing", "body radii", 0, false, 1, false,
+                                   [](MeshCase& m) -> double& { return m.extrusion.controlWallSpacing; },
+                                   "first control layer off the wall"));
+        o.push_back(integer<MeshCase>("surface_nodes", 2, 10000, [](MeshCase& m) -> int& { return m.extrusion.surfaceNodes; },
+                                      "grid nodes per block edge along the wall (medium 23, paper 31)"));
+        o.push_back(integer<MeshCase>("radial_nodes", 2, 10000, [](MeshCase& m) -> int& { return m.extrusion.radialNodes; },
+                                      "grid nodes wall to farfield; the spacing grows smoothly in physical space from "
+                                      "grid_wall_spacing to the farfield (medium 29, paper 47)"));
+        o.push_back(real<MeshCase>("grid_wall_spacing", "body radii", 0, false, 1, false,
+                                   [](MeshCase& m) -> double& { return m.extrusion.gridWallSpacing; },
+                                   "first grid spacing off the wall (medium and paper 1e-3)"));
+        o.push_back(real<MeshCase>("refine", "", 0, false, 100, false, [](MeshCase& m) -> double& { return m.extrusion.refine; },
+                                   "multiplies the grid intervals: the same analytic grid, finer"));
+        o.push_back(integer<MeshCase>("increments", 1, 1000, [](MeshCase& m) -> int& { return m.elasticity.increments; },
+                                      "m of Eq. 7: the elasticity move in this many steps (more survive larger "
+                                      "deformations)"));
+        o.push_back(real<MeshCase>("poisson", "", -1, false, 0.5, false,
+                                   [](MeshCase& m) -> double& { return m.elasticity.poisson; },
+                                   "Poisson's ratio of the pseudo-solid (the paper's negative value)"));
+        o.push_back(real<MeshCase>("size_stiffening", "", -10, true, 10, true,
+                                   [](MeshCase& m) -> double& { return m.elasticity.sizeStiffening; },
+                                   "Young's modulus ~ (mean volume / cell volume)^value: small cells stiffer"));
+        o.push_back(real<MeshCase>("orthogonality_stiffening", "", 0, true, 100, true,
+                                   [](MeshCase& m) -> double& { return m.elasticity.orthogonalityStiffening; },
+                                   "Young's modulus *= 1 + value (1 - min scaled Jacobian): skewed cells stiffer"));
+        o.push_back(real<MeshCase>("tolerance", "", 0, false, 1, false,
+                                   [](MeshCase& m) -> double& { return m.elasticity.tolerance; },
+                                   "relative residual of each increment's PCG solve"));
         return o;
     }();
     return options;

@@ -5,6 +5,7 @@
 // it, so an option is added in one place: one line of its table.
 #include <array>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -43,6 +44,20 @@ struct Option {
 /// The options of the case's "flow" section (without "restart", a path resolved against the
 /// case file). Defaults are those of a default-constructed FlowCase.
 const std::vector<Option<FlowCase>>& flowOptions();
+
+/// The options of the case's "mesh" section, "level" first (it resets the others to the level's
+/// values; the keys after it override them). Defaults are the coarse level's.
+const std::vector<Option<MeshCase>>& meshOptions();
+
+/// The option of `options` with this key; throws std::out_of_range for an unknown key (a
+/// programming error: keys are fixed by the tables).
+template <class S>
+const Option<S>& findOption(const std::vector<Option<S>>& options, const std::string& key) {
+    for (const auto& o : options) {
+        if (o.spec.key == key) return o;
+    }
+    throw std::out_of_range("no option '" + key + "'");
+}
 
 /// A value as the case file and the documentation show it: 0.02, 300, true, "central", [0, 0, 0].
 std::string formatOptionValue(const OptionValue& v);

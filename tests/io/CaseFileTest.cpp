@@ -180,4 +180,30 @@ TEST(Options, FlowTableDrivesParserWriterAndDocumentation) {
     for (const std::string& row : io::optionTableRows(options)) {
         EXPECT_NE(doc.str().find(row), std::string::npos) << "docs/case-file.md lacks (or has an old version of) the row\n" << row;
     }
+    for (const std::string& row : io::optionTableRows(io::meshOptions())) {
+        EXPECT_NE(doc.str().find(row), std::string::npos) << "docs/case-file.md lacks (or has an old version of) the row\n" << row;
+    }
+}
+
+// The mesh section's table: the level applies first, the keys override it, ranges come from the
+// table, and the writer's output reads back to the same options.
+TEST(Options, MeshTableAppliesTheLevelFirstAndChecksRanges) {
+    const std::string path = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/options_mesh.json";
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs",
+                             "mesh": {"radial_nodes": 33, "level": "paper", "increments": 12}})";
+    const io::CaseFile c = io::readCase(path);
+    EXPECT_EQ(c.mesh.level, "paper");
+    EXPECT_EQ(c.mesh.extrusion.radialNodes, 33);                 // the override, not the level's 47
+    EXPECT_EQ(c.mesh.extrusion.surfaceNodes, 31);                // the level's
+    EXPECT_EQ(c.mesh.extrusion.gridWallSpacing, 1e-3);
+    EXPECT_EQ(c.mesh.elasticity.increments, 12);
+    const io::CaseFile back = io::parseCase(io::formatCase(c), path);
+    EXPECT_EQ(back.mesh.extrusion.radialNodes, 33);
+    EXPECT_EQ(back.mesh.level, "paper");
+    for (const char* bad : {R"("level": "gigantic")", R"("increments": 0)", R"("poisson": 0.5)", R"("size_stiffening": 1e6)",
+                            R"("farfield_radius": 1)"}) {
+        std::ofstream(path) << std::string(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "mesh": {)") + bad + "}}";
+        EXPECT_THROW((void)io::readCase(path), CaseError) << bad;
+    }
+    EXPECT_EQ(io::findOption(io::meshOptions(), "increments").spec.upper, 1000);
 }
