@@ -348,10 +348,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         if (request.start->cflBase > 0) no.cfl0 = request.start->cflBase;
         if (request.start->lumping > 0) ro.dissipation.lumping = std::max(ro.dissipation.lumping, request.start->lumping);
     } else if (request.warmStart && static_cast<long>(warm_.size()) == n) {
-        q = warm_;
-        // The same absolute target as a cold run: the tolerance (and the CFL law) relative to the
-        // free-stream residual of the run that produced the state, not to the warm start's own.
-        if (warmReference_ > 0) no.referenceResidual = warmReference_;
+        q = warm_;  // the tolerance stays relative to this grid's free-stream residual (above)
         f->warmStarted = true;
         say("warm start from the last converged state");
     } else if (request.sequencing.value_or(case_.flow.gridSequencing) && mesh_) {
@@ -435,7 +432,6 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         e.message = why;
     } else {
         warm_ = f->q;
-        warmReference_ = f->report.initialResidual;
     }
     e.secondsFlow = since(t);
 }

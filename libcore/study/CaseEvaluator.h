@@ -166,10 +166,7 @@ public:
 
     /// The last converged flow state and its grid size (empty before the first).
     const std::vector<double>& lastConvergedState() const { return warm_; }
-    void forgetWarmStart() {
-        warm_.clear();
-        warmReference_ = 0;
-    }
+    void forgetWarmStart() { warm_.clear(); }
 
 private:
     struct Baseline;
@@ -185,7 +182,6 @@ private:
     std::vector<double> caseValues_;
     std::unique_ptr<Baseline> mesh_;      // extruded baseline (and its coarser sampling)
     std::vector<double> warm_;            // last converged flow state
-    double warmReference_ = 0;            // the reference residual of the run that produced it
     Log log_;
 };
 
