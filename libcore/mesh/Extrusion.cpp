@@ -1,6 +1,8 @@
 #include "mesh/Extrusion.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "common/Error.h"
 #include "geometry/Topology.h"
@@ -130,6 +132,32 @@ MultiBlockMesh extrudeToFarfield(const geometry::PatchSet& set, const ExtrusionO
             "mesh: invalid extrusion options (radial control points >= degree + 1, nodes >= 2, "
             "positive "
             "spacings and refinement, farfield radius > 1 body radius)");
+    }
+    // Refuse hostile sizes before allocating (issue #20): a grid of kMaxGridNodes takes about
+    // 7 KB per node in a flow solve.
+    {
+        const double along = std::max(1.0, std::round((o.surfaceNodes - 1) * o.refine)) + 1;
+        const double radial = std::max(1.0, std::round((o.radialNodes - 1) * o.refine)) + 1;
+        const double nodes = static_cast<double>(set.size()) * along * along * radial;
+        if (nodes > kMaxGridNodes) {
+            char b[400];
+            std::snprintf(b, sizeof b,
+                          "mesh: the grid would have %.3g nodes (%d blocks of %.0f x %.0f x %.0f: surface_nodes %d, "
+                          "radial_nodes %d, refine %g), more than the %.0f million accepted (a flow solve needs about "
+                          "7 KB per node); lower mesh.refine or the node counts",
+                          nodes, set.size(), along, along, radial, o.surfaceNodes, o.radialNodes, o.refine,
+                          kMaxGridNodes / 1e6);
+            throw CaseError(b);
+        }
+        double wall = 0;
+        for (const auto& patch : set.patches) wall += static_cast<double>(patch.countU) * patch.countV;
+        const double control = wall * o.radialControlPoints;
+        if (control > kMaxControlNodes) {
+            throw CaseError("mesh: radial_control_points " + std::to_string(o.radialControlPoints) +
+                            " would give about " + std::to_string(static_cast<long>(control)) +
+                            " control nodes, more than the " + std::to_string(static_cast<long>(kMaxControlNodes)) +
+                            " the elasticity solve accepts");
+        }
     }
     geometry::validate(set);
     const geometry::ControlPointIndex idx = geometry::buildControlPointIndex(set, 1e-10);

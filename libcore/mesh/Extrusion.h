@@ -26,6 +26,12 @@ struct ExtrusionOptions {
     double symmetryTolerance = 1e-12;  // |y| below which a point lies on the symmetry plane
 };
 
+/// Largest grid (and control grid) extrudeToFarfield builds: 30 million grid nodes (a flow solve
+/// needs about 7 KB per node; the paper level has 903,340), 2 million control nodes (the
+/// elasticity system). Larger requests are refused with the sizes in the message.
+inline constexpr double kMaxGridNodes = 3e7;
+inline constexpr double kMaxControlNodes = 2e6;
+
 /// Named levels: "coarse" (98,260 nodes, wall spacing 1e-2, 6,252 control nodes on the
 /// half-sphere: the optimization grid), "medium" (306,820, wall spacing 1e-3), "paper" (903,340
 /// nodes, 13,546 control nodes, wall spacing 1e-3; the paper: 900,000 and 13,720). The coarse

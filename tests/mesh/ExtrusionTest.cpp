@@ -155,3 +155,23 @@ TEST(Extrusion, BadInputIsRejected) {
     m.blocks[0].samples[0][3] += 1e-3;
     EXPECT_THROW(matchInterfaces(m, regenerateAll(m)), GeometryError);
 }
+
+// Hostile sizes are refused before anything is allocated, with the sizes and keys named
+// (mesh.refine 1e6 took 6.9 GB before the message; issue #20).
+TEST(Extrusion, RefusesGridsBeyondTheLimitNamingTheSizes) {
+    ExtrusionOptions o = extrusionLevel("coarse");
+    o.refine = 1e6;
+    try {
+        (void)extrudeToFarfield(geometry::makeHalfSphere(), o);
+        ADD_FAILURE() << "accepted";
+    } catch (const CaseError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("more than the 30 million accepted"), std::string::npos) << m;
+        EXPECT_NE(m.find("refine 1e+06"), std::string::npos) << m;
+    }
+    o = extrusionLevel("paper");
+    EXPECT_NO_THROW((void)extrudeToFarfield(geometry::makeHalfSphere(), o));  // 903,340 nodes
+    o = extrusionLevel("coarse");
+    o.radialControlPoints = 100000;
+    EXPECT_THROW((void)extrudeToFarfield(geometry::makeHalfSphere(), o), CaseError);
+}
