@@ -15,7 +15,6 @@ std::string number(double x) {
     return b;
 }
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Table entries, one line each: a real in a range, an integer in a range, a switch, a choice.
 // `field` maps the struct to the member (S& -> T&); the getter reads through it on a copy.
@@ -115,11 +114,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "to the symmetry plane"));
         o.push_back(real<FlowCase>("gamma", "", 1, false, 3, false, [](FlowCase& c) -> double& { return c.freeStream.gamma; },
                                    "ratio of specific heats"));
-        o.push_back(real<FlowCase>("reference_area", "length^2", 0, false, kInf, false,
+        o.push_back(real<FlowCase>("reference_area", "length^2", 1e-12, true, 1e12, true,
                                    [](FlowCase& c) -> double& { return c.reference.area; },
                                    "S_ref of the coefficients (default: the half-sphere's half frontal disc, pi/2; the "
                                    "grid's half body when a symmetry plane halves it)"));
-        o.push_back(real<FlowCase>("reference_length", "length", 0, false, kInf, false,
+        o.push_back(real<FlowCase>("reference_length", "length", 1e-12, true, 1e12, true,
                                    [](FlowCase& c) -> double& { return c.reference.length; },
                                    "c_ref of the moment coefficient"));
         {
