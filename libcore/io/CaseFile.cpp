@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/Error.h"
+#include "io/InputFile.h"
 #include "io/Options.h"
 #include "nurbs/Basis.h"
 #include "nurbs/KnotInsertion.h"
@@ -451,6 +452,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
 }
 
 CaseFile readCase(const std::string& path) {
+    checkInputFile(path, "case file", 64u << 20);  // cases are a few KB
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError("cannot open case file '" + path + "'");
     std::ostringstream ss;

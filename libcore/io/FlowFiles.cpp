@@ -9,6 +9,7 @@
 
 #include "common/Error.h"
 #include "flow/Outputs.h"
+#include "io/InputFile.h"
 #include "io/VtkXml.h"
 
 namespace aero::io {
@@ -131,6 +132,7 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
 }
 
 std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info) {
+    checkInputFile(path, "restart file", std::uintmax_t(1) << 40);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError("cannot open restart file '" + path + "'");
     Reader r(in, path);

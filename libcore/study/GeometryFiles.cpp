@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "common/Error.h"
+#include "io/InputFile.h"
 #include "io/PatchSetJson.h"
 
 namespace aero::study {
@@ -18,6 +19,7 @@ std::string fileExtension(const std::string& path) {
 }
 
 geometry::PatchSet loadGeometry(const std::string& path, cad::IgesReadReport* report) {
+    io::checkInputFile(path, "geometry file", std::uintmax_t(2) << 30);
     std::string ext = fileExtension(path);
     if (ext != "json" && ext != "igs" && ext != "iges") {
         std::ifstream in(path);

@@ -414,3 +414,19 @@ TEST(Cli, FlowAdjointReportsConvergedAdjointsAndAlphaDerivatives) {
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("unknown functional 'LD'"), std::string::npos) << bad.err;
 }
+
+// A directory or a device where a file belongs is named as such (it was "not valid JSON", or read
+// until memory ran out for /dev/zero; issue #20).
+TEST(Cli, DirectoriesAndDevicesAreRefusedAsInputFiles) {
+    const std::string dir = outputPath("");
+    Result r = run("flow '" + dir + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("is a directory, not a case file"), std::string::npos) << r.err;
+    r = run("info /dev/zero");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("'/dev/zero' is not a regular file"), std::string::npos) << r.err;
+    const std::string c = writeCase("dir_restart.json", R"("mesh": {"level": "coarse", "refine": 0.3}, "flow": {})");
+    r = run("flow '" + c + "' --restart '" + dir + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("is a directory, not a restart file"), std::string::npos) << r.err;
+}
