@@ -42,7 +42,12 @@ std::array<int, 2> intPair(const json& v, const std::string& origin, const std::
     if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer()) {
         fail(origin, where, "expected two integers");
     }
-    return {v[0].get<int>(), v[1].get<int>()};
+    // Read wide and check, so 2^32 + k is refused, not taken as k.
+    const long long a = v[0].get<long long>(), b = v[1].get<long long>();
+    for (long long x : {a, b}) {
+        if (x < -1000000000LL || x > 1000000000LL) fail(origin, where, "value " + std::to_string(x) + " out of range");
+    }
+    return {static_cast<int>(a), static_cast<int>(b)};
 }
 
 }  // namespace
@@ -91,7 +96,12 @@ geometry::PatchSet parsePatchSetJson(const std::string& text, const std::string&
         patch.countU = count[0];
         patch.countV = count[1];
         if (count[0] < 1 || count[1] < 1 || count[0] > 100000 || count[1] > 100000) {
-            fail(origin, where + ".count", "counts must be positive");
+            fail(origin, where + ".count", "counts " + std::to_string(count[0]) + " x " + std::to_string(count[1]) +
+                                               " outside [1, 100000]");
+        }
+        if (static_cast<long long>(count[0]) * count[1] > 10000000LL) {
+            fail(origin, where + ".count", std::to_string(count[0]) + " x " + std::to_string(count[1]) +
+                                               " control points: more than the 10 million a patch may have");
         }
         patch.knotsU = numbers(require(jp, "knots_u", origin, where), origin, where + ".knots_u");
         patch.knotsV = numbers(require(jp, "knots_v", origin, where), origin, where + ".knots_v");

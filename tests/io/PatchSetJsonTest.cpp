@@ -75,6 +75,12 @@ TEST(PatchSetJson, BadInputNamesFileAndKey) {
                      "expected 12");
     expectInputError(patchHead + R"("knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "colour": 3, "points": []}]})",
                      "unknown key 'colour'");
+    // Counts of 2^32 + k were read as k; a huge product overflowed an int (issue #20).
+    const std::string head = R"({"format": "aeroform.patchset", "version": 1, "patches": [{"degree": [3, 3], )";
+    expectInputError(head + R"("count": [4294967300, 4], "knots_u": [0,0,0,0,1,1,1,1], "knots_v": [0,0,0,0,1,1,1,1], "points": []}]})",
+                     "patches[0].count: value 4294967300 out of range");
+    expectInputError(head + R"("count": [65536, 65536], "knots_u": [0,0,0,0,1,1,1,1], "knots_v": [0,0,0,0,1,1,1,1], "points": []}]})",
+                     "more than the 10 million a patch may have");
     try {
         io::readPatchSetJson(tempPath("does-not-exist.json"));
         FAIL();
