@@ -34,6 +34,20 @@ std::string blockName(int b) {
     return "block " + std::to_string(b);
 }
 
+// Largest block accepted: 10^9 nodes (24 GB of coordinates). Checked in floating point, so a
+// product of large dims cannot wrap (16 x 2^30 x 2^30 wrapped to 0 nodes).
+constexpr long kMaxBlockNodes = 1000000000L;
+
+void checkBlockSize(const std::string& path, const std::string& name, int a, int b, int c) {
+    const double n = static_cast<double>(a) * b * c;
+    if (n > static_cast<double>(kMaxBlockNodes)) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.3g", n);
+        fail(path, name + ": " + std::to_string(a) + " x " + std::to_string(b) + " x " + std::to_string(c) + " = " + buf +
+                       " nodes, more than the 10^9 a block may have");
+    }
+}
+
 // ---- little-endian encoding -------------------------------------------------------------
 
 std::uint32_t readLe32(const unsigned char* p) {
@@ -254,6 +268,7 @@ std::vector<StructuredGrid> readBinary(std::ifstream& in, const std::string& pat
                            std::to_string(g.dims[1]) + " x " + std::to_string(g.dims[2]) +
                            " (each must be at least 1)");
         }
+        checkBlockSize(path, blockName(b), g.dims[0], g.dims[1], g.dims[2]);
     }
     r.end(len, "the dimensions");
 
@@ -398,13 +413,14 @@ std::vector<StructuredGrid> readAscii(const std::string& text, const std::string
         for (int d = 0; d < 3; ++d) {
             const long v =
                 tok.integer(blockName(static_cast<int>(b)) + " dimension " + std::to_string(d));
-            if (v < 1) {
+            if (v < 1 || v > kMaxBlockNodes) {
                 fail(path, blockName(static_cast<int>(b)) + ": bad dimension " + std::to_string(d) +
                                " = " + std::to_string(v) + " at line " +
-                               std::to_string(tok.line()) + " (must be at least 1)");
+                               std::to_string(tok.line()) + " (must lie in [1, 10^9])");
             }
             g.dims[d] = static_cast<int>(v);
         }
+        checkBlockSize(path, blockName(static_cast<int>(b)), g.dims[0], g.dims[1], g.dims[2]);
         totalValues += 3 * static_cast<std::uint64_t>(g.dims[0]) *
                        static_cast<std::uint64_t>(g.dims[1]) *
                        static_cast<std::uint64_t>(g.dims[2]);

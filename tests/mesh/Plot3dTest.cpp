@@ -195,8 +195,8 @@ TEST(Plot3d, BadDims) {
     expectInputError(path, {"block 0", "bad dimension 1 = -2"});
     spit(path, "0\n");
     expectInputError(path, {"bad block count 0"});
-    spit(path, "1\n2000 2000 2000\n1 2 3\n");
-    expectInputError(path, {"block 0", "2000 x 2000 x 2000", "24000000000 coordinates"});
+    spit(path, "1\n1000 1000 1000\n1 2 3\n");
+    expectInputError(path, {"block 0", "1000 x 1000 x 1000", "3000000000 coordinates"});
     spit(path, "1\n2 2.5 2\n");
     expectInputError(path, {"block 0 dimension 1", "'2.5' is not an integer"});
 
@@ -212,6 +212,12 @@ TEST(Plot3d, BadDims) {
     spit(bin, le32(4) + le32(1) + le32(4) + le32(12) + le32(2) + le32(1) + le32(1) + le32(12) +
                   le32(40) + std::string(40, '\0') + le32(40));
     expectInputError(bin, {"block 0", "record has 40 bytes", "expected 24 * 2 = 48"});
+    // Dims whose product wraps a 64-bit count (16 x 2^30 x 2^30 = 2^64 read as 0 nodes, then a
+    // crash in fit; issue #20) and an ASCII dimension beyond an int.
+    spit(bin, le32(4) + le32(1) + le32(4) + le32(12) + le32(16) + le32(1u << 30) + le32(1u << 30) + le32(12) + le32(0) + le32(0));
+    expectInputError(bin, {"block 0", "16 x 1073741824 x 1073741824", "more than the 10^9 a block may have"});
+    spit(path, "1\n16 2000000000 2\n1 2 3\n");
+    expectInputError(path, {"block 0", "bad dimension 1 = 2000000000", "[1, 10^9]"});
 }
 
 TEST(Plot3d, NonNumericAndNonFiniteData) {
