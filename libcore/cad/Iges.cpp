@@ -135,6 +135,49 @@ std::string occtMessage(const Standard_Failure& e) {
 }
 
 /// "entity 3 (type 128, directory line 5)": how messages name an IGES entity.
+double igesValue(std::string_view t) {
+    std::string s(t);
+    for (char& c : s) {
+        if (c == 'D' || c == 'd') c = 'E';  // Fortran double exponent
+    }
+    return s.empty() ? 0.0 : std::strtod(s.c_str(), nullptr);
+}
+
+/// Entity 128 (rational B-spline surface), checked against its own counts before OCCT reads it
+/// (issue #20: counts or degrees that do not match the data crashed OCCT's reader; weights of 0,
+/// -1 or 1e-300 became a polynomial surface without a word). p: the parameters, p[0] = 128.
+void checkBSplineSurfaceEntity(const std::vector<std::string_view>& p, const std::string& path, const std::string& what) {
+    auto fail = [&](const std::string& why) { throw InputError("IGES file " + quoted(path) + ": " + what + ": " + why); };
+    if (p.size() < 10) fail("only " + std::to_string(p.size()) + " parameters (a B-spline surface has at least 10 before its data)");
+    const double K1 = igesValue(p[1]), K2 = igesValue(p[2]), M1 = igesValue(p[3]), M2 = igesValue(p[4]);
+    for (double v : {K1, K2, M1, M2}) {
+        if (v != std::floor(v) || v < 0) fail("the counts and degrees (K1 K2 M1 M2 = " + std::string(p[1]) + " " + std::string(p[2]) + " " +
+                                              std::string(p[3]) + " " + std::string(p[4]) + ") must be non-negative integers");
+    }
+    if (M1 < 1 || M2 < 1 || M1 > 25 || M2 > 25) fail("degrees " + std::string(p[3]) + ", " + std::string(p[4]) + " outside [1, 25]");
+    if (K1 < M1 || K2 < M2 || K1 > 1e5 || K2 > 1e5) {
+        fail("upper indices K1 = " + std::string(p[1]) + ", K2 = " + std::string(p[2]) +
+             " must lie in [degree, 100000] (K + 1 control points per direction)");
+    }
+    const double nu = K1 + 1, nv = K2 + 1;
+    if (nu * nv > 1e7) fail(std::to_string(static_cast<long>(nu * nv)) + " control points: more than the 10 million accepted");
+    const double knotsU = K1 + M1 + 2, knotsV = K2 + M2 + 2;
+    const double needed = 10 + knotsU + knotsV + 4 * nu * nv + 4;
+    if (static_cast<double>(p.size()) < needed) {
+        fail("K1 = " + std::string(p[1]) + ", K2 = " + std::string(p[2]) + ", M1 = " + std::string(p[3]) + ", M2 = " +
+             std::string(p[4]) + " need " + std::to_string(static_cast<long>(needed)) + " parameters (knots, weights, points, "
+             "parameter range), the entity has " + std::to_string(p.size()));
+    }
+    const std::size_t w0 = 10 + static_cast<std::size_t>(knotsU + knotsV);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(nu * nv); ++k) {
+        const double w = igesValue(p[w0 + k]);
+        if (!(w >= 1e-100) || !std::isfinite(w)) {
+            fail("weight " + std::to_string(k + 1) + " is " + std::string(p[w0 + k]) +
+                 " (weights must be positive and not vanishingly small)");
+        }
+    }
+}
+
 std::string describeEntity(int number, int type) {
     return "entity " + std::to_string(number) + " (type " + std::to_string(type) +
            ", directory line " + std::to_string(2 * number - 1) + ")";
@@ -215,6 +258,7 @@ void checkIgesText(const std::string& text, const std::string& path) {
     for (const auto& [de, data] : params) {
         std::string_view s = data;
         int type = 0, index = 0;
+        std::vector<std::string_view> numbers;  // the entity's parameters (type 128 only)
         for (std::size_t i = 0; i < s.size();) {
             ++index;
             std::size_t start = i;
@@ -239,10 +283,12 @@ void checkIgesText(const std::string& text, const std::string& path) {
                                      describeEntity((de + 1) / 2, type) + ", parameter " +
                                      std::to_string(index) + " is not a number: '" +
                                      std::string(token) + "'");
+                if (type == 128) numbers.push_back(token);
             }
             if (end >= s.size() || s[end] == rd) break;  // after the record delimiter: comment
             i = end + 1;
         }
+        if (type == 128) checkBSplineSurfaceEntity(numbers, path, describeEntity((de + 1) / 2, type));
     }
 }
 

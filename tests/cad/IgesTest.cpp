@@ -451,4 +451,64 @@ TEST(Iges, ReadingAndWritingPrintNothingOnStdout) {
 }
 
 }  // namespace
+
+namespace {
+
+// The sample's IGES text with parameter `index` (0-based; 0 is the type) of its first entity
+// replaced by `value` (the entity's lines keep their 64 data columns).
+std::string withFirstEntityParameter(int index, const std::string& value) {
+    std::ifstream in(std::string(AEROFORM_SAMPLES_DIR) + "/half_sphere.igs");
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    int seen = 0;
+    for (std::string& l : lines) {
+        if (l.size() < 73 || l[72] != 'P' || std::stoi(l.substr(64, 8)) != 1) continue;
+        std::string data = l.substr(0, 64);
+        std::vector<std::string> parts;
+        std::stringstream ss(data);
+        for (std::string t; std::getline(ss, t, ',');) parts.push_back(t);
+        const bool trailingComma = data.find_last_not_of(' ') != std::string::npos && data[data.find_last_not_of(' ')] == ',';
+        int real = static_cast<int>(parts.size());
+        while (real > 0 && parts[real - 1].find_first_not_of(' ') == std::string::npos) --real;
+        if (index < seen + real) {
+            parts[index - seen] = value;
+            std::string joined;
+            for (int k = 0; k < real; ++k) joined += parts[k] + (k + 1 < real || trailingComma ? "," : "");
+            if (joined.size() > 64) throw std::runtime_error("value too long for the line");
+            l = joined + std::string(64 - joined.size(), ' ') + l.substr(64);
+            break;
+        }
+        seen += real;
+    }
+    std::string out;
+    for (const auto& l : lines) out += l + "\n";
+    return out;
+}
+
+void expectRefused(const std::string& text, const std::string& name, const std::string& fragment) {
+    const std::string path = outputPath(name);
+    std::ofstream(path) << text;
+    try {
+        (void)cad::readIges(path);
+        ADD_FAILURE() << name << " accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("entity 1 (type 128"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+
+// Entity 128 is checked against its own counts before OCCT reads it (its reader crashed on a
+// degree of 999999999 or K1 = 1000 with data for 6 x 6), and a weight of 0, -1 or 1e-300 is
+// refused (it became a polynomial surface without a word; issue #20).
+TEST(Iges, BSplineSurfacesWithCountsOrWeightsTheirDataCannotHaveAreRefused) {
+    EXPECT_NO_THROW((void)cad::readIges(std::string(AEROFORM_SAMPLES_DIR) + "/half_sphere.igs"));
+    expectRefused(withFirstEntityParameter(3, "999999999"), "deg.igs", "degrees 999999999, 3 outside [1, 25]");
+    expectRefused(withFirstEntityParameter(1, "1000"), "k1.igs", "need 25053 parameters");
+    expectRefused(withFirstEntityParameter(2, "2.5"), "kfrac.igs", "must be non-negative integers");
+    // Parameters 10.. are the 10 + 10 knots, then the 36 weights (parameter 30 is the first).
+    for (const char* w : {"0.0", "-1.0", "1.0D-300"}) expectRefused(withFirstEntityParameter(30, w), "w.igs", std::string("weight 1 is ") + w);
+}
+
 }  // namespace aero::cad
