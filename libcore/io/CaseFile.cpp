@@ -447,6 +447,33 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         vtm("flow_vtk", c.outputFlowVtk);
         if (o.contains("residual_csv")) c.outputResidualCsv = resolve(path, ctx.string(o["residual_csv"], "output.residual_csv"));
         if (o.contains("restart")) c.outputRestart = resolve(path, ctx.string(o["restart"], "output.restart"));
+        // An output never overwrites an input (issue #20: output.geometry equal to the geometry
+        // replaced the user's file with exit 0). A restart read and written in place is allowed:
+        // the run continues it.
+        const auto same = [](const std::string& a, const std::string& b) {
+            if (a.empty() || b.empty()) return false;
+            std::error_code e1, e2;
+            const auto ca = std::filesystem::weakly_canonical(a, e1), cb = std::filesystem::weakly_canonical(b, e2);
+            return !e1 && !e2 && ca == cb;
+        };
+        const std::pair<const char*, const std::string*> outputs[] = {
+            {"geometry", &c.outputGeometry},   {"vtk", &c.outputVtk},           {"mesh_vtk", &c.outputMeshVtk},
+            {"control_vtk", &c.outputControlVtk}, {"plot3d", &c.outputPlot3d}, {"flow_vtk", &c.outputFlowVtk},
+            {"residual_csv", &c.outputResidualCsv}, {"restart", &c.outputRestart}};
+        for (const auto& [key, file] : outputs) {
+            if (same(*file, c.geometry)) ctx.fail(std::string("output.") + key, "is the case's geometry file '" + c.geometry + "' (an output never overwrites an input)");
+            if (same(*file, path)) ctx.fail(std::string("output.") + key, "is the case file itself (an output never overwrites an input)");
+            if (std::string(key) != "restart" && same(*file, c.flow.restart)) {
+                ctx.fail(std::string("output.") + key, "is the restart file the flow starts from (an output never overwrites an input)");
+            }
+        }
+        for (std::size_t a = 0; a < std::size(outputs); ++a) {
+            for (std::size_t b = a + 1; b < std::size(outputs); ++b) {
+                if (same(*outputs[a].second, *outputs[b].second)) {
+                    ctx.fail(std::string("output.") + outputs[b].first, std::string("is the same file as output.") + outputs[a].first);
+                }
+            }
+        }
     }
     return c;
 }

@@ -207,3 +207,15 @@ TEST(Options, MeshTableAppliesTheLevelFirstAndChecksRanges) {
     }
     EXPECT_EQ(io::findOption(io::meshOptions(), "increments").spec.upper, 1000);
 }
+
+// An output never overwrites an input: the geometry, the case itself, the restart the flow reads,
+// or another output (issue #20: output.geometry equal to the geometry replaced it with exit 0).
+TEST(CaseFile, OutputsThatWouldOverwriteAnInputAreRefused) {
+    expectCaseError(R"("output": {"geometry": "g.igs"})", "output.geometry: is the case's geometry file");
+    expectCaseError(R"("output": {"plot3d": "../cases/g.igs"})", "output.plot3d: is the case's geometry file");
+    expectCaseError(R"("output": {"residual_csv": "c.json"})", "output.residual_csv: is the case file itself");
+    expectCaseError(R"("flow": {"restart": "r.bin"}, "output": {"residual_csv": "r.bin"})", "is the restart file the flow starts from");
+    expectCaseError(R"("output": {"vtk": "a.vtm", "mesh_vtk": "a.vtm"})", "output.mesh_vtk: is the same file as output.vtk");
+    // A restart continued in place is allowed.
+    EXPECT_NO_THROW(io::parseCase(kHead + R"("flow": {"restart": "r.bin"}, "output": {"restart": "r.bin"}})", "/cases/c.json"));
+}
