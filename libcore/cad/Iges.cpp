@@ -62,6 +62,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "common/AtomicFile.h"
 #include "common/Error.h"
 
 namespace aero::cad {
@@ -462,16 +463,6 @@ Handle(Geom_BSplineSurface) toOcct(const Patch& p) {
                                    p.degreeU, p.degreeV);
 }
 
-/// Removes the file at scope exit unless told to keep it.
-struct RemoveUnlessKept {
-    std::string path;
-    bool keep = false;
-    ~RemoveUnlessKept() {
-        std::error_code ec;
-        if (!keep) std::filesystem::remove(path, ec);
-    }
-};
-
 /// Clears the "closed" flags of every entity 128: the reader makes a surface flagged closed
 /// periodic (re-knotted, fewer poles), which would break the exact round trip. Our patches
 /// carry no notion of closure, so they are written open.
@@ -551,10 +542,12 @@ PatchSet readIges(const std::string& path, IgesReadReport* report) {
 
 void writeIges(const PatchSet& set, const std::string& path) {
     geometry::validate(set);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out)
-        throw InputError("cannot write IGES file " + quoted(path) + ": " + std::strerror(errno));
-    RemoveUnlessKept output{path};  // no half-written file after an error
+    // Written to a temporary file and renamed over the target: a failed write (disk full) leaves
+    // the existing file as it was; a symlink's target is replaced, the link kept.
+    AtomicFile file(path, "IGES file");
+    errno = 0;
+    std::ofstream out(file.temporary(), std::ios::binary | std::ios::trunc);
+    if (!out) file.fail();
     try {
         std::lock_guard lock(occtMutex);
         StdoutToStderr quiet;
@@ -583,13 +576,13 @@ void writeIges(const PatchSet& set, const std::string& path) {
         iges.FloatWriter().SetFormat("%.16E");               // 17 significant digits: exact
         iges.FloatWriter().SetZeroSuppress(Standard_False);  // with it, exponents are lost
         iges.SendModel(IGESSelect_WorkLibrary::DefineProtocol());
-        if (!iges.Print(out) || !out.flush())
-            throw InputError("cannot write IGES file " + quoted(path) + ": " +
-                             std::strerror(errno));
+        if (!iges.Print(out) || !out.flush()) file.fail();
     } catch (const Standard_Failure& e) {
         throw InputError("cannot write IGES file " + quoted(path) + ": " + occtMessage(e));
     }
-    output.keep = true;
+    out.close();
+    if (!out) file.fail();
+    file.commit();
 }
 
 }  // namespace aero::cad

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/AtomicFile.h"
 #include "common/Error.h"
 
 namespace aero::io {
@@ -163,18 +164,17 @@ geometry::PatchSet readPatchSetJson(const std::string& path) {
 
 void writePatchSetJson(const geometry::PatchSet& set, const std::string& path) {
     const std::string text = formatPatchSetJson(set);
-    // Write to a temporary file and rename: an existing file is never left half-written.
-    const std::string tmp = path + ".tmp";
+    // Write to a temporary file and rename: an existing file is never left half-written, and no
+    // temporary file stays behind after a failure.
+    AtomicFile file(path, "patch-set file");
     {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw InputError("cannot write patch-set file '" + path + "'");
+        errno = 0;
+        std::ofstream out(file.temporary(), std::ios::binary | std::ios::trunc);
+        if (!out) file.fail();
         out << text;
-        if (!out.flush()) throw InputError("cannot write patch-set file '" + path + "'");
+        if (!out.flush()) file.fail();
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw InputError("cannot replace patch-set file '" + path + "'");
-    }
+    file.commit();
 }
 
 }  // namespace aero::io

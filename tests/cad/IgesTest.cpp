@@ -399,6 +399,35 @@ TEST(Iges, UnwritableOutputIsAnInputErrorNamingIt) {
     }
 }
 
+// A failed write leaves the existing file as it was and no temporary file behind (it deleted the
+// file), and writing through a symlink replaces its target and keeps the link (issue #20).
+TEST(Iges, FailedWriteKeepsTheExistingFileAndSymlinksStayLinks) {
+    const PatchSet sphere = geometry::makeHalfSphere();
+    // A name of 250 characters exists; its temporary sibling's name is too long to create.
+    const std::string dir = outputPath("atomic");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string longName = dir + "/" + std::string(246, 'a') + ".igs";
+    writeText(longName, "the user's file\n");
+    const std::string before = readText(longName);
+    PatchSet other = sphere;
+    other.patches.resize(3);
+    other.names.resize(3);
+    const std::string m = messageOf<InputError>([&] { writeIges(other, longName); });
+    EXPECT_NE(m.find("File name too long"), std::string::npos) << m;  // the reason, named
+    EXPECT_EQ(readText(longName), before);
+    int files = 0;
+    for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file() ? 1 : 0;
+    EXPECT_EQ(files, 1);  // no temporary left
+    // Through a symlink.
+    const std::string target = dir + "/target.igs", link = dir + "/link.igs";
+    writeIges(sphere, target);
+    fs::create_symlink("target.igs", link);
+    writeIges(other, link);
+    EXPECT_TRUE(fs::is_symlink(link));
+    EXPECT_EQ(readIges(target).size(), 3);
+}
+
 TEST(Iges, InvalidPatchIsNotWritten) {
     PatchSet set;
     set.source = "broken set";

@@ -1,0 +1,63 @@
+#pragma once
+// Writing a file so that a failure never costs the user the file that was there (issue #20): the
+// data goes to a temporary file next to the target, which is renamed over it only once complete.
+// A symlink is followed: its target is replaced and the link stays a link. Without commit() the
+// temporary file is removed.
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+
+#include "common/Error.h"
+
+namespace aero {
+
+class AtomicFile {
+public:
+    /// `what` names the file for messages ("IGES file", "patch-set file").
+    AtomicFile(const std::string& path, const std::string& what) : path_(path), what_(what) {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        target_ = fs::path(path);
+        if (fs::is_symlink(fs::symlink_status(target_, ec))) {
+            const fs::path to = fs::read_symlink(target_, ec);
+            if (!ec) target_ = to.is_absolute() ? to : target_.parent_path() / to;
+        }
+        if (fs::is_directory(target_, ec)) throw InputError("cannot write " + what_ + " '" + path_ + "': it is a directory");
+        temporary_ = target_.string() + ".tmp" + std::to_string(::getpid());
+    }
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+    ~AtomicFile() {
+        if (!committed_) {
+            std::error_code ec;
+            std::filesystem::remove(temporary_, ec);
+        }
+    }
+
+    /// Where to write the data.
+    const std::string& temporary() const { return temporary_; }
+
+    /// Renames the temporary file over the target (or the symlink's target).
+    void commit() {
+        std::error_code ec;
+        std::filesystem::rename(temporary_, target_, ec);
+        if (ec) throw InputError("cannot replace " + what_ + " '" + path_ + "': " + ec.message());
+        committed_ = true;
+    }
+
+    /// "cannot write <what> '<path>': <errno text>" for a failed write.
+    [[noreturn]] void fail() const {
+        throw InputError("cannot write " + what_ + " '" + path_ + "': " + std::strerror(errno ? errno : EIO));
+    }
+
+private:
+    std::string path_, what_;
+    std::filesystem::path target_;
+    std::string temporary_;
+    bool committed_ = false;
+};
+
+}  // namespace aero
