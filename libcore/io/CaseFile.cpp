@@ -272,6 +272,27 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
                     lc.crease.push_back({ctx.integer(r[i]["direction"], k + ".direction", 0, 2), u});
                 }
             }
+            // Hostile sizes refused before anything is built (issue #20: a 200^3 lattice took
+            // 13.8 GB; 100,000 inserted knots ran for minutes).
+            {
+                std::size_t inserted = 0;
+                for (const auto& [dir, knots] : lc.refine) inserted += knots.size();
+                if (inserted > 3000) {
+                    ctx.fail(key + ".refine", std::to_string(inserted) + " knots to insert, more than the 3000 accepted");
+                }
+                const std::array<int, 3> n = refinedCounts(lc);
+                const double total = static_cast<double>(n[0]) * n[1] * n[2];
+                for (int d = 0; d < 3; ++d) {
+                    if (n[d] > 1000) {
+                        ctx.fail(key, std::to_string(n[d]) + " control points in direction " + std::to_string(d) +
+                                          " after refinement, more than the 1000 accepted");
+                    }
+                }
+                if (total > 1e6) {
+                    ctx.fail(key, std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]) +
+                                      " control points after refinement, more than the 10^6 accepted");
+                }
+            }
             c.lattices.push_back(std::move(lc));
         }
     }

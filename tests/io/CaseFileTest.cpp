@@ -219,3 +219,12 @@ TEST(CaseFile, OutputsThatWouldOverwriteAnInputAreRefused) {
     // A restart continued in place is allowed.
     EXPECT_NO_THROW(io::parseCase(kHead + R"("flow": {"restart": "r.bin"}, "output": {"restart": "r.bin"}})", "/cases/c.json"));
 }
+
+// Lattices of hostile size are refused up front with the size in the message (issue #20).
+TEST(CaseFile, HostileLatticeSizesAreRefused) {
+    expectCaseError(R"("lattices": [{"counts": [200, 200, 200]}])", "200 x 200 x 200 control points after refinement, more than the 10^6");
+    std::string knots;
+    for (int i = 1; i <= 3001; ++i) knots += (i > 1 ? "," : "") + std::to_string(i / 3002.0);
+    expectCaseError(R"("lattices": [{"refine": [{"direction": 0, "knots": [)" + knots + "]}]}]", "3001 knots to insert");
+    EXPECT_NO_THROW(io::parseCase(kHead + R"("lattices": [{"counts": [6, 6, 2], "refine": [{"direction": 0, "knots": [0.5]}]}]})", "/cases/c.json"));
+}
