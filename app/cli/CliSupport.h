@@ -1,7 +1,9 @@
 #pragma once
 // Shared pieces of the CLI subcommands: exit codes, argument parsing, loading and saving patch
 // sets by extension, and the exception boundary.
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <map>
 #include <set>
 #include <string>
@@ -38,6 +40,15 @@ int guarded(const char* command, Fn&& fn) {
         return fn();
     } catch (const Error& e) {
         std::cerr << "aeroform-cli " << command << ": error: " << e.what() << "\n";
+        return kFailed;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "aeroform-cli " << command
+                  << ": error: out of memory (the case needs more memory than this machine has; a coarser "
+                     "mesh.level or a lower mesh.refine needs less)\n";
+        return kFailed;
+    } catch (const std::filesystem::filesystem_error& e) {
+        std::cerr << "aeroform-cli " << command << ": error: " << e.code().message() << ": '" << e.path1().string() << "'"
+                  << (e.path2().empty() ? std::string() : " -> '" + e.path2().string() + "'") << "\n";
         return kFailed;
     } catch (const std::exception& e) {
         std::cerr << "aeroform-cli " << command << ": internal error: " << e.what() << "\n";
