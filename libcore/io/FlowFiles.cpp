@@ -182,6 +182,10 @@ std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& f
     in.read(reinterpret_cast<char*>(&stored), sizeof stored);
     if (in.gcount() != sizeof stored) throw InputError("restart file '" + path + "': truncated (no checksum)");
     if (stored != expected) throw InputError("restart file '" + path + "': checksum mismatch (the file is corrupt)");
+    if (in.peek() != std::char_traits<char>::eof()) {
+        // Anything after the checksum is not ours: two files concatenated, or a damaged copy.
+        throw InputError("restart file '" + path + "': data after the checksum (the file is corrupt or not one restart)");
+    }
     for (std::size_t i = 0; i < q.size(); ++i) {
         if (!std::isfinite(q[i])) {
             throw InputError("restart file '" + path + "': non-finite value at node " + std::to_string(i / flow::kVars));

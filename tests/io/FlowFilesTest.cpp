@@ -97,6 +97,10 @@ TEST(FlowFiles, RestartForAnotherGridOrDamagedIsRejectedWithTheReason) {
     std::ofstream(bad, std::ios::binary) << flipped;
     expectInputError(bad, fm, "checksum mismatch");
 
+    const std::string twice = outPath("twice.restart");  // garbage after the checksum was ignored
+    std::ofstream(twice, std::ios::binary) << bytes << "extra";
+    expectInputError(twice, fm, "data after the checksum");
+
     const std::string other = outPath("other.restart");
     std::ofstream(other, std::ios::binary) << "{\"format\": \"aeroform.case\"}";
     expectInputError(other, fm, "not an Aeroform restart file");
