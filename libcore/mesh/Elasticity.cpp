@@ -10,6 +10,7 @@
 #include <complex>
 
 #include "common/Error.h"
+#include "common/Scalar.h"
 
 namespace aero::mesh {
 
@@ -54,14 +55,16 @@ void forEachCell(const MultiBlockMesh& m, const ControlBlock& b, Fn&& fn) {
     }
 }
 
-// Volume and minimum scaled corner Jacobian of a hexahedron.
-void cellMetrics(const double* x, double& volume, double& minScaled) {
-    volume = 0;
+}  // namespace
+
+template <class T>
+void cellMetrics(const T* x, T& volume, T& minScaled) {
+    volume = T(0.0);
     const double g = 1.0 / std::sqrt(3.0);
     for (int q = 0; q < 8; ++q) {
         double dN[8][3];
         shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
-        Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+        Eigen::Matrix<T, 3, 3> J = Eigen::Matrix<T, 3, 3>::Zero();
         for (int a = 0; a < 8; ++a) {
             for (int r = 0; r < 3; ++r) {
                 for (int c = 0; c < 3; ++c) J(r, c) += x[3 * a + r] * dN[a][c];
@@ -69,22 +72,34 @@ void cellMetrics(const double* x, double& volume, double& minScaled) {
         }
         volume += J.determinant();
     }
-    minScaled = 1.0;
+    minScaled = T(1.0);
     // Corner a's three edges go to its neighbours along xi, eta, zeta.
     const int nb[8][3] = {{1, 3, 4}, {0, 2, 5}, {3, 1, 6}, {2, 0, 7}, {5, 7, 0}, {4, 6, 1}, {7, 5, 2}, {6, 4, 3}};
     for (int a = 0; a < 8; ++a) {
-        Eigen::Matrix3d E;
+        Eigen::Matrix<T, 3, 3> E;
         for (int d = 0; d < 3; ++d) {
             const double sign = (kCorner[a][d] < 0) ? 1.0 : -1.0;  // edges point into the cell
             for (int c = 0; c < 3; ++c) E(c, d) = sign * (x[3 * nb[a][d] + c] - x[3 * a + c]);
-            const double len = E.col(d).norm();
-            if (len > 0) E.col(d) /= len;
+            T len2 = T(0.0);
+            for (int c = 0; c < 3; ++c) len2 += E(c, d) * E(c, d);
+            if (realPart(len2) > 0) E.col(d) /= std::sqrt(len2);
         }
-        minScaled = std::min(minScaled, E.determinant());
+        const T det = E.determinant();
+        if (realPart(det) < realPart(minScaled)) minScaled = det;  // the active corner's value
     }
 }
 
-}  // namespace
+template <class T>
+T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o) {
+    T vol, q;
+    cellMetrics(x, vol, q);
+    T e = T(1.0);
+    if (realPart(vol) > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
+    // clamp(q, 0, 1), piecewise: its derivative is q's inside and 0 outside.
+    const T qc = realPart(q) < 0 ? T(0.0) : (realPart(q) > 1 ? T(1.0) : q);
+    e *= 1.0 + o.orthogonalityStiffening * (1.0 - qc);
+    return e;
+}
 
 template <class T>
 void hexStiffness(const T* x, T E, double nu, T* K) {
@@ -129,14 +144,7 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
 
 std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o, double meanVolume) {
     std::vector<double> E;
-    forEachCell(m, m.blocks[block], [&](const double* x, const int*) {
-        double vol = 0, q = 0;
-        cellMetrics(x, vol, q);
-        double e = 1.0;
-        if (vol > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
-        e *= 1.0 + o.orthogonalityStiffening * (1.0 - std::clamp(q, 0.0, 1.0));
-        E.push_back(e);
-    });
+    forEachCell(m, m.blocks[block], [&](const double* x, const int*) { E.push_back(cellModulus(x, meanVolume, o)); });
     return E;
 }
 
@@ -355,6 +363,11 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
 }
 
 template void hexStiffness<double>(const double*, double, double, double*);
+template void cellMetrics<double>(const double*, double&, double&);
+template void cellMetrics<std::complex<double>>(const std::complex<double>*, std::complex<double>&, std::complex<double>&);
+template double cellModulus<double>(const double*, double, const ElasticityOptions&);
+template std::complex<double> cellModulus<std::complex<double>>(const std::complex<double>*, std::complex<double>,
+                                                                const ElasticityOptions&);
 template void hexStiffness<std::complex<double>>(const std::complex<double>*, std::complex<double>, double,
                                                   std::complex<double>*);
 

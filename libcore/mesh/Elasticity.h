@@ -46,6 +46,20 @@ struct MoveReport {
     std::string message;  // the reason, when not converged
 };
 
+/// Volume (sum over the 2x2x2 Gauss points of det J) and minimum scaled corner Jacobian of a
+/// hexahedron with corners x (8 x 3, VTK order). Templated for complex step (the minimum takes
+/// the active corner's value, so its derivative is that corner's).
+template <class T>
+void cellMetrics(const T* x, T& volume, T& minScaled);
+
+/// Young's modulus of one control cell: (meanVolume / volume)^size_stiffening times
+/// 1 + orthogonality_stiffening (1 - clamp(min scaled Jacobian, 0, 1)). Piecewise differentiable
+/// in x (the clamp and the minimum are taken at their active pieces); meanVolume is a global
+/// quantity passed in: the mesh adjoint either differentiates the mean (1/N sum of the cell
+/// volumes) or freezes it, its choice.
+template <class T>
+T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o);
+
 /// Young's modulus of every control cell of block `b` (in the block's cell order) for grid b.
 std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o,
                                   double meanVolume);
