@@ -273,6 +273,11 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             cflBase *= opt.cflBackoff;
         } else if (rec.stepScale == 1.0) {
             cflBase = std::min(opt.cflMax, opt.cflGrowth * cflBase);
+        } else if (rec.stepScale < opt.smallStep) {
+            // The change limit cut the step to a sliver: the linearization is not trusted this
+            // far out. Without a smaller CFL the same sliver repeats (the medium level's blended
+            // wing sat at step 0.00 for 25 iterations).
+            cflBase *= opt.cflBackoff;
         }
         rep.cflBase = cflBase;
         ++rep.iterations;

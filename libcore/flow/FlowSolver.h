@@ -38,6 +38,7 @@ struct NewtonOptions {
     int gmresRestart = 60;
     int gmresMaxIterations = 180;      // per nonlinear iteration (3 restart cycles)
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
+    double smallStep = 0.1;            // a step scaled below this backs the CFL base off too
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
     int stallIterations = 25;          // Stalled when for this many iterations neither the best
                                        // ||R|| has improved nor the CFL reached a new high (the
