@@ -403,11 +403,11 @@ TEST(Iges, UnwritableOutputIsAnInputErrorNamingIt) {
 // file), and writing through a symlink replaces its target and keeps the link (issue #20).
 TEST(Iges, FailedWriteKeepsTheExistingFileAndSymlinksStayLinks) {
     const PatchSet sphere = geometry::makeHalfSphere();
-    // A name of 250 characters exists; its temporary sibling's name is too long to create.
+    // A name of 254 characters exists; its temporary sibling's name is too long to create.
     const std::string dir = outputPath("atomic");
     fs::remove_all(dir);
     fs::create_directories(dir);
-    const std::string longName = dir + "/" + std::string(246, 'a') + ".igs";
+    const std::string longName = dir + "/" + std::string(250, 'a') + ".igs";  // 254 of the 255 allowed
     writeText(longName, "the user's file\n");
     const std::string before = readText(longName);
     PatchSet other = sphere;
