@@ -284,8 +284,8 @@ int cmdFlow(const Args& args) {
         std::printf("\nCase keys of \"flow\" (default, range; docs/case-file.md has the descriptions):\n");
         const io::FlowCase defaults;
         for (const auto& o : io::flowOptions()) {
-            const std::string range = o.spec.range() + (o.spec.unit.empty() ? "" : " " + o.spec.unit);
-            std::printf("  %-24s %-22s %s\n", o.spec.key.c_str(), io::formatOptionValue(o.get(defaults)).c_str(), range.c_str());
+            std::printf("  %-24s %-22s %s\n", o.spec.key.c_str(), io::formatOptionValue(o.get(defaults)).c_str(),
+                        o.spec.rangeWithUnit().c_str());
         }
         std::printf("  %-24s %-22s %s\n", "restart", "none", "a restart file");
         return kOk;

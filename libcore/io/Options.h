@@ -30,6 +30,8 @@ struct OptionSpec {
     std::vector<std::string> choices;          // Choice: the allowed names
     /// "[0, 1)", "(0, inf)", "entropy_conservative, central", "true, false", ...
     std::string range() const;
+    /// range() followed by the unit, if any: "(-90, 90) degrees".
+    std::string rangeWithUnit() const { return range() + (unit.empty() ? "" : " " + unit); }
     /// Empty if v is allowed, else why not ("value 2 outside [0, 1)").
     std::string check(const OptionValue& v) const;
 };
@@ -69,8 +71,7 @@ std::vector<std::string> optionTableRows(const std::vector<Option<S>>& options) 
     std::vector<std::string> rows;
     const S defaults{};
     for (const auto& o : options) {
-        const std::string range = o.spec.range() + (o.spec.unit.empty() ? "" : " " + o.spec.unit);
-        rows.push_back("| `" + o.spec.key + "` | " + formatOptionValue(o.get(defaults)) + " | " + range + " | " +
+        rows.push_back("| `" + o.spec.key + "` | " + formatOptionValue(o.get(defaults)) + " | " + o.spec.rangeWithUnit() + " | " +
                        o.spec.description + " |");
     }
     return rows;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <random>
 
+#include "RandomVector.h"
 #include "adjoint/FlowAdjoint.h"
 #include "common/Error.h"
 #include "io/CaseFile.h"
@@ -36,13 +37,7 @@ study::Evaluation solve(double alpha) {
     return ev.evaluate(ev.caseValues(), cold);
 }
 
-std::vector<double> randomVector(std::size_t n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(-1, 1);
-    std::vector<double> v(n);
-    for (double& x : v) x = U(rng);
-    return v;
-}
+using aero::test::randomVector;
 
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
     double s = 0;

@@ -484,7 +484,9 @@ TEST(Iges, ReadingAndWritingPrintNothingOnStdout) {
 namespace {
 
 // The sample's IGES text with parameter `index` (0-based; 0 is the type) of its first entity
-// replaced by `value` (the entity's lines keep their 64 data columns).
+// replaced by `value` (the entity's lines keep their 64 data columns). Unlike replaceParameter
+// above, which keeps the field's width, this repacks the line: the values here are wider than
+// the sample's one-digit counts and degrees.
 std::string withFirstEntityParameter(int index, const std::string& value) {
     std::ifstream in(std::string(AEROFORM_SAMPLES_DIR) + "/half_sphere.igs");
     std::vector<std::string> lines;

@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "RandomVector.h"
 #include "FlowFixtures.h"
 #include "common/Error.h"
 #include "flow/Metrics.h"
@@ -17,13 +18,7 @@ using namespace aero::flow::testing;
 
 namespace {
 
-std::vector<double> randomVector(std::size_t n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(-1, 1);
-    std::vector<double> v(n);
-    for (double& x : v) x = U(rng);
-    return v;
-}
+using aero::test::randomVector;
 
 double norm(const std::vector<double>& v) {
     double s = 0;

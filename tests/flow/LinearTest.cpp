@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <random>
 
+#include "RandomVector.h"
 #include "flow/BlockIlu.h"
 #include "flow/Gmres.h"
 
@@ -36,13 +37,7 @@ BlockSparseMatrix gridMatrix(int nx, int ny, unsigned seed) {
     return A;
 }
 
-std::vector<double> randomVector(long n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<double> v(n);
-    for (double& x : v) x = u(rng);
-    return v;
-}
+using aero::test::randomVector;
 
 double maxError(const BlockSparseMatrix& A, const std::vector<double>& x, const std::vector<double>& b) {
     std::vector<double> Ax(b.size());
