@@ -18,8 +18,10 @@ struct Entry {
 };
 constexpr Entry kTable[] = {{Functional::CL, "CL"}, {Functional::CD, "CD"}, {Functional::CM, "CM"}, {Functional::CY, "CY"}};
 
-// J as a linear function of the (unscaled) force F and moment M: J = w_F . F + w_M . M.
-void weights(Functional f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3], double wM[3]) {
+}  // namespace
+
+void functionalWeights(Functional f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
+                       double wM[3]) {
     const double qs = fs.dynamicPressure() * ref.area;
     const double ca = std::cos(fs.alpha()), sa = std::sin(fs.alpha());
     for (int c = 0; c < 3; ++c) wF[c] = wM[c] = 0;
@@ -40,8 +42,6 @@ void weights(Functional f, const flow::FreeStream& fs, const flow::ForceReferenc
             break;
     }
 }
-
-}  // namespace
 
 Functional functionalByName(const std::string& name) {
     std::string list;
@@ -78,7 +78,7 @@ std::vector<double> stateGradient(Functional f, const flow::FlowMesh& fm, const 
                                   const flow::FreeStream& fs, const flow::ForceReference& ref) {
     using C = std::complex<double>;
     double wF[3], wM[3];
-    weights(f, fs, ref, wF, wM);
+    functionalWeights(f, fs, ref, wF, wM);
     std::vector<double> g(q.size(), 0.0);
     constexpr double h = 1e-30;  // complex step: exact to round-off
     for (const flow::WallNode& w : flow::wallNodes(fm)) {

@@ -19,6 +19,10 @@ enum class Functional { CL, CD, CM, CY };
 Functional functionalByName(const std::string& name);
 const char* functionalName(Functional f);
 
+/// J as a linear function of the (unscaled) wall force F and moment M: J = wF . F + wM . M.
+void functionalWeights(Functional f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
+                       double wM[3]);
+
 /// J from the force coefficients (what flow::integrateForces gives).
 double functionalValue(Functional f, const flow::ForceCoefficients& c);
 

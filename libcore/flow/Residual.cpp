@@ -172,14 +172,16 @@ std::vector<T> wallJunctionNormals(const FlowMesh& fm, const T* metrics) {
 }
 
 template <class T>
-void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r) {
+void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r,
+              const std::vector<T>* fixedJunctionNormals) {
     const double gamma = o.freeStream.gamma;
     std::fill(r, r + kVars * fm.nodeCount, T(0.0));
     // Blocks in parallel (each writes only its own nodes); the per-plane loops inside then run
     // on one thread. One parallel region per residual instead of several per block: with
     // passive OpenMP waiting every region costs a wake-up of the team.
-    const std::vector<T> junctionNormals =
-        (o.terms & kBoundarySat) ? wallJunctionNormals(fm, metrics) : std::vector<T>();
+    const std::vector<T> junctionNormals = !(o.terms & kBoundarySat) ? std::vector<T>()
+                                           : fixedJunctionNormals    ? *fixedJunctionNormals
+                                                                     : wallJunctionNormals(fm, metrics);
     const long nb = static_cast<long>(fm.blocks.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (long b = 0; b < nb; ++b) {
@@ -216,9 +218,10 @@ template std::vector<double> wallJunctionNormals<double>(const FlowMesh&, const 
 template std::vector<std::complex<double>> wallJunctionNormals<std::complex<double>>(
     const FlowMesh&, const std::complex<double>*);
 template void residual<double>(const FlowMesh&, const double*, const double*,
-                               const ResidualOptions&, double*);
+                               const ResidualOptions&, double*, const std::vector<double>*);
 template void residual<std::complex<double>>(const FlowMesh&, const std::complex<double>*,
                                              const std::complex<double>*, const ResidualOptions&,
-                                             std::complex<double>*);
+                                             std::complex<double>*,
+                                             const std::vector<std::complex<double>>*);
 
 }  // namespace aero::flow

@@ -40,8 +40,11 @@ struct ResidualOptions {
 /// r = R(q) for all blocks (r is overwritten). q, r: 5 * fm.nodeCount; metrics:
 /// kMetricWidth * fm.nodeCount. OpenMP over the blocks (each writes only its own nodes; the
 /// loops inside a block run on one thread), then over the interface pairs.
+/// `junctionNormals` (optional): the wall junctions' normals to use instead of computing them
+/// from the metrics (the grid sensitivities hold them fixed and differentiate them apart).
 template <class T>
-void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r);
+void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r,
+              const std::vector<T>* junctionNormals = nullptr);
 
 /// The free stream of `fs` at every node (5 * nodeCount).
 std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs);
