@@ -72,7 +72,16 @@ void cellMetrics(const T* x, T& volume, T& minScaled) {
         }
         volume += J.determinant();
     }
+    T corners[8];
+    cornerScaledJacobians(x, corners);
     minScaled = T(1.0);
+    for (int a = 0; a < 8; ++a) {
+        if (realPart(corners[a]) < realPart(minScaled)) minScaled = corners[a];  // the active corner's value
+    }
+}
+
+template <class T>
+void cornerScaledJacobians(const T* x, T* corners) {
     // Corner a's three edges go to its neighbours along xi, eta, zeta.
     const int nb[8][3] = {{1, 3, 4}, {0, 2, 5}, {3, 1, 6}, {2, 0, 7}, {5, 7, 0}, {4, 6, 1}, {7, 5, 2}, {6, 4, 3}};
     for (int a = 0; a < 8; ++a) {
@@ -84,15 +93,69 @@ void cellMetrics(const T* x, T& volume, T& minScaled) {
             for (int c = 0; c < 3; ++c) len2 += E(c, d) * E(c, d);
             if (realPart(len2) > 0) E.col(d) /= std::sqrt(len2);
         }
-        const T det = E.determinant();
-        if (realPart(det) < realPart(minScaled)) minScaled = det;  // the active corner's value
+        corners[a] = E.determinant();
     }
 }
 
 template <class T>
+T cellOrthogonality(const T* x) {
+    using std::exp;
+    using std::log;
+    T q[8];
+    cornerScaledJacobians(x, q);
+    double lowest = realPart(q[0]);
+    for (int a = 1; a < 8; ++a) lowest = std::min(lowest, realPart(q[a]));
+    T s = T(0.0);
+    for (int a = 0; a < 8; ++a) s += exp(-kOrthogonalitySharpness * (q[a] - lowest));
+    return lowest - log(s / 8.0) / kOrthogonalitySharpness;
+}
+
+template <class T>
+T hexBilinear(const T* x, T E, double nu, const double* a, const double* b) {
+    const T lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    const T mu = E / (2 * (1 + nu));
+    const double g = 1.0 / std::sqrt(3.0);
+    T sum = T(0.0);
+    for (int q = 0; q < 8; ++q) {
+        double dN[8][3];
+        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
+        Eigen::Matrix<T, 3, 3> J = Eigen::Matrix<T, 3, 3>::Zero();
+        for (int n = 0; n < 8; ++n) {
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * n + r] * dN[n][c];
+            }
+        }
+        const T det = J.determinant();
+        const Eigen::Matrix<T, 3, 3> Jinv = J.inverse();
+        // Displacement gradients A(i, c) = sum_n a_n,i dN_n/dx_c, and B alike.
+        Eigen::Matrix<T, 3, 3> A = Eigen::Matrix<T, 3, 3>::Zero(), B = Eigen::Matrix<T, 3, 3>::Zero();
+        for (int n = 0; n < 8; ++n) {
+            T G[3];
+            for (int c = 0; c < 3; ++c) {
+                G[c] = T(0.0);
+                for (int r = 0; r < 3; ++r) G[c] += dN[n][r] * Jinv(r, c);
+            }
+            for (int i = 0; i < 3; ++i) {
+                for (int c = 0; c < 3; ++c) {
+                    A(i, c) += a[3 * n + i] * G[c];
+                    B(i, c) += b[3 * n + i] * G[c];
+                }
+            }
+        }
+        T v = lambda * A.trace() * B.trace();
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) v += mu * (A(i, j) * B(j, i) + A(i, j) * B(i, j));
+        }
+        sum += v * det;
+    }
+    return sum;
+}
+
+template <class T>
 T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o) {
-    T vol, q;
-    cellMetrics(x, vol, q);
+    T vol, qmin;
+    cellMetrics(x, vol, qmin);
+    const T q = cellOrthogonality(x);
     T e = T(1.0);
     if (realPart(vol) > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
     // clamp(q, 0, 1), piecewise: its derivative is q's inside and 0 outside.
@@ -175,27 +238,39 @@ std::vector<char> boundaryConstraints(const MultiBlockMesh& m) {
     return c;
 }
 
-IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
-                                const std::vector<double>& prescribed, const ElasticityOptions& o,
-                                const std::vector<double>* initial) {
-    const int ndof = static_cast<int>(m.control.size());
-    std::vector<int> freeIndex(ndof, -1);
+namespace {
+
+// K restricted to the free DOFs and the right-hand side -K_fc u_c of one increment, at the current
+// control grid; or the first inverted cell (nothing assembled).
+struct FreeSystem {
+    std::vector<int> freeIndex;  // per DOF: its free index, -1 when constrained
     int nfree = 0;
+    long cells = 0;
+    double meanVolume = 0;
+    Eigen::SparseMatrix<double> A;
+    Eigen::VectorXd rhs;
+    bool invalidCell = false;
+    std::string message;
+};
+
+FreeSystem assembleFree(const MultiBlockMesh& m, const std::vector<char>& constrained,
+                        const std::vector<double>& prescribed, const ElasticityOptions& o) {
+    FreeSystem s;
+    const int ndof = static_cast<int>(m.control.size());
+    s.freeIndex.assign(ndof, -1);
     for (int d = 0; d < ndof; ++d) {
-        if (!constrained[d]) freeIndex[d] = nfree++;
+        if (!constrained[d]) s.freeIndex[d] = s.nfree++;
     }
     // Mean control-cell volume (the size-stiffening reference); a cell with non-positive volume
     // has no stiffness of the right sign: report it instead of assembling an indefinite K.
     double total = 0;
-    long cells = 0;
-    IncrementResult r;
-    for (std::size_t bi = 0; bi < m.blocks.size() && !r.invalidCell; ++bi) {
+    for (std::size_t bi = 0; bi < m.blocks.size() && !s.invalidCell; ++bi) {
         const ControlBlock& b = m.blocks[bi];
         long cell = 0;
         forEachCell(m, b, [&](const double* x, const int*) {
             double vol = 0, q = 0;
             cellMetrics(x, vol, q);
-            if (!(vol > 0) && !r.invalidCell) {
+            if (!(vol > 0) && !s.invalidCell) {
                 const int ni = b.count[0] - 1, nj = b.count[1] - 1;
                 const int ci = static_cast<int>(cell % ni), cj = static_cast<int>((cell / ni) % nj),
                           ck = static_cast<int>(cell / (static_cast<long>(ni) * nj));
@@ -207,51 +282,53 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
                 std::snprintf(buf, sizeof buf,
                               "control cell (%d, %d, %d) of block '%s' near (%.4g, %.4g, %.4g) has volume %.3g (inverted)",
                               ci, cj, ck, b.name.c_str(), centre[0], centre[1], centre[2], vol);
-                r.invalidCell = true;
-                r.message = buf;
+                s.invalidCell = true;
+                s.message = buf;
             }
             total += vol;
-            ++cells;
+            ++s.cells;
             ++cell;
         });
     }
-    if (r.invalidCell) {
-        r.u.assign(ndof, 0.0);
-        return r;
-    }
-    const double meanVolume = total / std::max(1L, cells);
+    if (s.invalidCell) return s;
+    s.meanVolume = total / std::max(1L, s.cells);
 
     std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(cells) * 300);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nfree);
+    triplets.reserve(static_cast<std::size_t>(s.cells) * 300);
+    s.rhs = Eigen::VectorXd::Zero(s.nfree);
     for (std::size_t bi = 0; bi < m.blocks.size(); ++bi) {
-        const std::vector<double> E = cellStiffness(m, static_cast<int>(bi), o, meanVolume);
+        const std::vector<double> E = cellStiffness(m, static_cast<int>(bi), o, s.meanVolume);
         double K[24 * 24];
         std::size_t cell = 0;
         forEachCell(m, m.blocks[bi], [&](const double* x, const int* nodes) {
             hexStiffness<double>(x, E[cell++], o.poisson, K);
             for (int row = 0; row < 24; ++row) {
                 const int gr = 3 * nodes[row / 3] + row % 3;
-                const int fr = freeIndex[gr];
+                const int fr = s.freeIndex[gr];
                 if (fr < 0) continue;
                 for (int c = 0; c < 24; ++c) {
                     const int gc = 3 * nodes[c / 3] + c % 3;
-                    const int fc = freeIndex[gc];
+                    const int fc = s.freeIndex[gc];
                     const double v = K[row * 24 + c];
                     if (fc >= 0) {
                         triplets.emplace_back(fr, fc, v);
                     } else {
-                        rhs[fr] -= v * prescribed[gc];
+                        s.rhs[fr] -= v * prescribed[gc];
                     }
                 }
             }
         });
     }
-    Eigen::SparseMatrix<double> A(nfree, nfree);
-    A.setFromTriplets(triplets.begin(), triplets.end());
-    triplets.clear();
-    triplets.shrink_to_fit();
+    s.A.resize(s.nfree, s.nfree);
+    s.A.setFromTriplets(triplets.begin(), triplets.end());
+    return s;
+}
 
+// Solves A x = rhs (x0: the starting guess) as the options ask: conjugate gradients with
+// incomplete Cholesky, then (Auto, Direct) a supernodal sparse Cholesky. Fills the report fields
+// of r (iterations, residual, converged, direct, message).
+Eigen::VectorXd solveFree(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0,
+                          const ElasticityOptions& o, IncrementResult& r) {
     Eigen::VectorXd sol;
     bool solved = false;
     if (o.solver != ElasticityOptions::Solver::Direct) {
@@ -264,12 +341,6 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
         cg.setMaxIterations(o.solver == ElasticityOptions::Solver::Auto ? std::min(o.maxIterations, o.directAfter)
                                                                           : o.maxIterations);
         cg.compute(A);
-        Eigen::VectorXd x0 = Eigen::VectorXd::Zero(nfree);
-        if (initial) {
-            for (int d = 0; d < ndof; ++d) {
-                if (freeIndex[d] >= 0) x0[freeIndex[d]] = (*initial)[d];
-            }
-        }
         sol = (cg.info() == Eigen::Success) ? Eigen::VectorXd(cg.solveWithGuess(rhs, x0)) : x0;
         r.iterations = static_cast<int>(cg.iterations());
         r.residual = cg.error();
@@ -291,22 +362,47 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
             r.converged = false;
             r.residual = 1.0;
             r.message = "the stiffness matrix is not positive definite (a control cell is degenerate)";
-            sol = Eigen::VectorXd::Zero(nfree);
+            sol = Eigen::VectorXd::Zero(rhs.size());
         } else {
             sol = llt.solve(rhs);
             const double bn = rhs.norm();
             r.residual = bn > 0 ? (A * sol - rhs).norm() / bn : 0.0;
             r.converged = std::isfinite(r.residual) && r.residual <= std::max(o.tolerance, 1e-8);
-            if (!r.converged) r.message = "the direct solve left a relative residual of " + std::to_string(r.residual);
+            r.message = r.converged ? "" : "the direct solve left a relative residual of " + std::to_string(r.residual);
         }
     }
+    return sol;
+}
+
+}  // namespace
+
+IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
+                                const std::vector<double>& prescribed, const ElasticityOptions& o,
+                                const std::vector<double>* initial) {
+    const int ndof = static_cast<int>(m.control.size());
+    IncrementResult r;
+    FreeSystem s = assembleFree(m, constrained, prescribed, o);
+    if (s.invalidCell) {
+        r.invalidCell = true;
+        r.message = s.message;
+        r.u.assign(ndof, 0.0);
+        return r;
+    }
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(s.nfree);
+    if (initial) {
+        for (int d = 0; d < ndof; ++d) {
+            if (s.freeIndex[d] >= 0) x0[s.freeIndex[d]] = (*initial)[d];
+        }
+    }
+    const Eigen::VectorXd sol = solveFree(s.A, s.rhs, x0, o, r);
     r.u.assign(ndof, 0.0);
-    for (int d = 0; d < ndof; ++d) r.u[d] = freeIndex[d] >= 0 ? sol[freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
+    for (int d = 0; d < ndof; ++d) r.u[d] = s.freeIndex[d] >= 0 ? sol[s.freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
     return r;
 }
 
 MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface, const ElasticityOptions& o,
-                           const std::function<void(int, int)>& progress, const std::atomic<bool>* cancel) {
+                           const std::function<void(int, int)>& progress, const std::atomic<bool>* cancel,
+                           MoveHistory* history) {
     const auto t0 = std::chrono::steady_clock::now();
     MoveReport rep;
     if (surface.size() != 3 * m.surfaceNode.size()) {
@@ -321,6 +417,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
     }
     rep.freeDofs = 0;
     for (char c : constrained) rep.freeDofs += c ? 0 : 1;
+    if (history) *history = {};
     std::vector<double> previous;
     for (int inc = 1; inc <= o.increments; ++inc) {
         if (cancel && cancel->load()) {
@@ -343,6 +440,10 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         rep.directSolves += r.direct ? 1 : 0;
         rep.residuals.push_back(r.residual);
         rep.totalIterations += r.iterations;
+        if (history) {
+            history->before.push_back(m.control);
+            history->displacement.push_back(r.u);
+        }
         for (std::size_t d = 0; d < m.control.size(); ++d) m.control[d] += r.u[d];
         previous = r.u;
         if (progress) progress(inc, o.increments);
@@ -362,7 +463,201 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
     return rep;
 }
 
+std::size_t MoveHistory::bytes() const {
+    std::size_t n = 0;
+    for (const auto& v : before) n += v.size() * sizeof(double);
+    for (const auto& v : displacement) n += v.size() * sizeof(double);
+    return n;
+}
+
+namespace {
+
+// Calls fn(x, nodes) for every control cell of every block, in parallel over the cells of a
+// block (fn must only write per-thread or per-cell data, or accumulate atomically).
+template <class Fn>
+void forEachCellParallel(const MultiBlockMesh& m, Fn&& fn) {
+    for (const ControlBlock& b : m.blocks) {
+        const int ni = b.count[0] - 1, nj = b.count[1] - 1, nk = b.count[2] - 1;
+        const long cells = static_cast<long>(ni) * nj * nk;
+#pragma omp parallel for schedule(dynamic, 16)
+        for (long cell = 0; cell < cells; ++cell) {
+            double x[24];
+            int nodes[8];
+            cellCorners(m, b, static_cast<int>(cell % ni), static_cast<int>((cell / ni) % nj),
+                        static_cast<int>(cell / (static_cast<long>(ni) * nj)), x, nodes);
+            fn(x, nodes);
+        }
+    }
+}
+
+double meanCellVolume(const MultiBlockMesh& m, long* count = nullptr) {
+    double total = 0;
+    long cells = 0;
+    for (const ControlBlock& b : m.blocks) {
+        forEachCell(m, b, [&](const double* x, const int*) {
+            double vol = 0, q = 0;
+            cellMetrics(x, vol, q);
+            total += vol;
+            ++cells;
+        });
+    }
+    if (count) *count = cells;
+    return total / std::max(1L, cells);
+}
+
+void atomicAdd(std::vector<double>& g, std::size_t i, double v) {
+#pragma omp atomic
+    g[i] += v;
+}
+
+}  // namespace
+
+std::vector<double> stiffnessProduct(const MultiBlockMesh& m, const ElasticityOptions& o, const std::vector<double>& v) {
+    const double mean = meanCellVolume(m);
+    std::vector<double> out(m.control.size(), 0.0);
+    forEachCellParallel(m, [&](const double* x, const int* nodes) {
+        double K[24 * 24];
+        hexStiffness<double>(x, cellModulus(x, mean, o), o.poisson, K);
+        for (int r = 0; r < 24; ++r) {
+            double s = 0;
+            for (int c = 0; c < 24; ++c) s += K[24 * r + c] * v[3 * static_cast<std::size_t>(nodes[c / 3]) + c % 3];
+            if (s != 0) atomicAdd(out, 3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3, s);
+        }
+    });
+    return out;
+}
+
+std::vector<double> stiffnessProductGradient(const MultiBlockMesh& m, const ElasticityOptions& o,
+                                             const std::vector<double>& lambda, const std::vector<double>& u) {
+    using C = std::complex<double>;
+    constexpr double h = 1e-30;
+    long cells = 0;
+    const double mean = meanCellVolume(m, &cells);
+    std::vector<double> g(m.control.size(), 0.0);
+    double dMean = 0;  // d(lambda^T K u)/d(mean volume)
+    // lambda_e^T K_e(x, E(x, mean)) u_e of one cell, complex (without forming K_e).
+    auto cellProduct = [&](const C* xc, C meanc, const int* nodes) {
+        double le[24], ue[24];
+        for (int r = 0; r < 24; ++r) {
+            le[r] = lambda[3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3];
+            ue[r] = u[3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3];
+        }
+        return hexBilinear<C>(xc, cellModulus<C>(xc, meanc, o), o.poisson, le, ue);
+    };
+    forEachCellParallel(m, [&](const double* x, const int* nodes) {
+        bool any = false;
+        for (int a = 0; a < 8 && !any; ++a) {
+            for (int c = 0; c < 3; ++c) any = any || lambda[3 * static_cast<std::size_t>(nodes[a]) + c] != 0;
+        }
+        if (!any) return;
+        C xc[24];
+        for (int i = 0; i < 24; ++i) xc[i] = x[i];
+        for (int i = 0; i < 24; ++i) {
+            xc[i] += C(0.0, h);
+            const double d = cellProduct(xc, C(mean), nodes).imag() / h;
+            xc[i] = x[i];
+            atomicAdd(g, 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3, d);
+        }
+        const double dm = cellProduct(xc, C(mean, h), nodes).imag() / h;
+#pragma omp atomic
+        dMean += dm;
+    });
+    if (dMean != 0 && o.sizeStiffening != 0) {
+        const double w = dMean / static_cast<double>(std::max(1L, cells));
+        forEachCellParallel(m, [&](const double* x, const int* nodes) {
+            C xc[24];
+            for (int i = 0; i < 24; ++i) xc[i] = x[i];
+            for (int i = 0; i < 24; ++i) {
+                xc[i] += C(0.0, h);
+                C vol, q;
+                cellMetrics(xc, vol, q);
+                xc[i] = x[i];
+                atomicAdd(g, 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3, w * vol.imag() / h);
+            }
+        });
+    }
+    return g;
+}
+
+std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHistory& history,
+                                           const ElasticityOptions& o, const std::vector<double>& gFinal,
+                                           MeshAdjointReport* report) {
+    const auto t0 = std::chrono::steady_clock::now();
+    MeshAdjointReport rep;
+    const std::size_t ndof = m.control.size();
+    if (gFinal.size() != ndof) {
+        throw GeometryError("mesh adjoint: " + std::to_string(gFinal.size() / 3) + " gradient values for " +
+                            std::to_string(ndof / 3) + " control nodes");
+    }
+    const int increments = static_cast<int>(history.before.size());
+    std::vector<double> gA(3 * m.surfaceNode.size(), 0.0);
+    std::vector<double> gb = gFinal;
+    // The move ends by setting the wall nodes to A exactly: their final gradient goes to A.
+    for (std::size_t s = 0; s < m.surfaceNode.size(); ++s) {
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[s]) + c;
+            gA[3 * s + c] += gb[d];
+            gb[d] = 0;
+        }
+    }
+    if (increments == 0) {
+        rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (report) *report = rep;
+        return gA;
+    }
+    const std::vector<char> constrained = boundaryConstraints(m);
+    MultiBlockMesh grid = m;  // structure; the control points of each increment from the history
+    const std::vector<double> zero(ndof, 0.0);
+    for (int inc = increments; inc >= 1 && rep.converged; --inc) {
+        grid.control = history.before[inc - 1];
+        const std::vector<double>& u = history.displacement[inc - 1];
+        // b^(i) = b^(i-1) + u^(i): ubar = gb. u_f solves K_ff u_f = -K_fc u_c, so
+        // K_ff lambda = ubar_f, the prescribed values get ubar_c - (K lambda)_c, and b^(i-1) gets
+        // -d(lambda^T K u)/db.
+        FreeSystem s = assembleFree(grid, constrained, zero, o);
+        if (s.invalidCell) {
+            rep.converged = false;
+            rep.message = "increment " + std::to_string(inc) + ": " + s.message;
+            break;
+        }
+        Eigen::VectorXd rhs(s.nfree);
+        for (std::size_t d = 0; d < ndof; ++d) {
+            if (s.freeIndex[d] >= 0) rhs[s.freeIndex[d]] = gb[d];
+        }
+        IncrementResult r;
+        const Eigen::VectorXd sol = solveFree(s.A, rhs, Eigen::VectorXd::Zero(s.nfree), o, r);
+        rep.iterations.push_back(r.iterations);
+        rep.directSolves += r.direct ? 1 : 0;
+        if (!r.converged) {
+            rep.converged = false;
+            rep.message = "increment " + std::to_string(inc) + ": " + r.message;
+            break;
+        }
+        std::vector<double> lambda(ndof, 0.0);
+        for (std::size_t d = 0; d < ndof; ++d) {
+            if (s.freeIndex[d] >= 0) lambda[d] = sol[s.freeIndex[d]];
+        }
+        const std::vector<double> Kl = stiffnessProduct(grid, o, lambda);
+        for (std::size_t sn = 0; sn < m.surfaceNode.size(); ++sn) {
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[sn]) + c;
+                gA[3 * sn + c] += (gb[d] - Kl[d]) / increments;  // the wall's prescribed u is (A - A0)/m
+            }
+        }
+        const std::vector<double> gK = stiffnessProductGradient(grid, o, lambda, u);
+        for (std::size_t d = 0; d < ndof; ++d) gb[d] -= gK[d];
+    }
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (report) *report = rep;
+    return gA;
+}
+
 template void hexStiffness<double>(const double*, double, double, double*);
+template double cellOrthogonality<double>(const double*);
+template std::complex<double> cellOrthogonality<std::complex<double>>(const std::complex<double>*);
+template double hexBilinear<double>(const double*, double, double, const double*, const double*);
+template std::complex<double> hexBilinear<std::complex<double>>(const std::complex<double>*, std::complex<double>, double,
+                                                                const double*, const double*);
 template void cellMetrics<double>(const double*, double&, double&);
 template void cellMetrics<std::complex<double>>(const std::complex<double>*, std::complex<double>&, std::complex<double>&);
 template double cellModulus<double>(const double*, double, const ElasticityOptions&);

@@ -52,11 +52,26 @@ struct MoveReport {
 template <class T>
 void cellMetrics(const T* x, T& volume, T& minScaled);
 
+/// The scaled Jacobian of each corner of a hexahedron (8 x 3 corners, VTK order).
+template <class T>
+void cornerScaledJacobians(const T* x, T* corners);
+
+/// How sharply cellOrthogonality follows the worst corner.
+inline constexpr double kOrthogonalitySharpness = 20.0;
+
+/// The cell's orthogonality: a smooth minimum of its corner scaled Jacobians q_a,
+///   -(1/r) log((1/8) sum_a exp(-r q_a)),  r = kOrthogonalitySharpness,
+/// between the minimum and the mean (equal to q for eight equal corners, within log(8)/r = 0.10
+/// above the minimum). Not the minimum itself: on a structured grid several corners tie for the
+/// minimum, where the minimum has no derivative and the mesh adjoint would disagree with finite
+/// differences (by 2e-4 on the half-sphere's control grid).
+template <class T>
+T cellOrthogonality(const T* x);
+
 /// Young's modulus of one control cell: (meanVolume / volume)^size_stiffening times
-/// 1 + orthogonality_stiffening (1 - clamp(min scaled Jacobian, 0, 1)). Piecewise differentiable
-/// in x (the clamp and the minimum are taken at their active pieces); meanVolume is a global
-/// quantity passed in: the mesh adjoint either differentiates the mean (1/N sum of the cell
-/// volumes) or freezes it, its choice.
+/// 1 + orthogonality_stiffening (1 - clamp(cellOrthogonality, 0, 1)). Differentiable in x
+/// except where the clamp switches (a corner at a right angle to inverted); meanVolume is a
+/// global quantity passed in: the mesh adjoint differentiates it (1/N sum of the cell volumes).
 template <class T>
 T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o);
 
@@ -70,6 +85,12 @@ std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const Elas
 /// step.
 template <class T>
 void hexStiffness(const T* x, T E, double nu, T* K);
+
+/// a^T K b for the stiffness K of hexStiffness without forming K (a, b: 24 values, node-major):
+/// the bilinear form lambda tr(grad a) tr(grad b) + mu (grad a : grad b^T + grad a : grad b) at
+/// the Gauss points. Templated for complex step on x and E.
+template <class T>
+T hexBilinear(const T* x, T E, double nu, const double* a, const double* b);
 
 /// Solves one linear-elasticity problem on the current control grid: `prescribed` gives the
 /// displacement (3 per global node) of every constrained DOF (others are ignored and solved for).
@@ -92,12 +113,48 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
 /// nodes fully, symmetry nodes in y.
 std::vector<char> boundaryConstraints(const MultiBlockMesh& m);
 
+/// What the mesh adjoint needs of a move: the control grid b^(i-1) before every increment i and the
+/// increment's displacement u^(i) (3 per control node each).
+struct MoveHistory {
+    std::vector<std::vector<double>> before, displacement;
+    std::size_t bytes() const;
+};
+
 /// Moves b so that its surface nodes reach `surface` (3 per unique geometry control point), in
 /// o.increments increments (Eq. 7). `progress(increment, m)` is called after each; `cancel`
 /// stops between increments (status Cancelled, b left at the last completed increment).
+/// `history` (optional) receives every increment's grid and displacement.
 MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface,
                            const ElasticityOptions& o,
                            const std::function<void(int, int)>& progress = {},
-                           const std::atomic<bool>* cancel = nullptr);
+                           const std::atomic<bool>* cancel = nullptr, MoveHistory* history = nullptr);
+
+/// d(lambda^T K(b) u)/db for the current control grid b of m (3 per control node): every cell's
+/// 24x24 stiffness differentiated by complex step with respect to its corners, through its
+/// modulus (size and orthogonality stiffening) and through the mean cell volume (a global
+/// quantity, differentiated: d mean/db = (1/N) sum of the cells' d volume/db).
+std::vector<double> stiffnessProductGradient(const MultiBlockMesh& m, const ElasticityOptions& o,
+                                             const std::vector<double>& lambda, const std::vector<double>& u);
+
+/// K(b) v for the current control grid b of m over all DOFs (constrained ones included).
+std::vector<double> stiffnessProduct(const MultiBlockMesh& m, const ElasticityOptions& o, const std::vector<double>& v);
+
+struct MeshAdjointReport {
+    bool converged = true;
+    std::vector<int> iterations;  // per increment (reverse order of the forward move)
+    int directSolves = 0;
+    double seconds = 0;
+    std::string message;          // the reason, when not converged
+};
+
+/// The mesh adjoint (the paper's Eq. 9): the reverse of moveControlGrid over its increments.
+/// From gFinal = dL/db^(m) (3 per control node of the moved grid) to dL/dA (3 per unique
+/// geometry control point, surfaceNode order). `m` gives the structure (blocks, boundary
+/// conditions); the grids come from `history`. Each increment solves K(b^(i-1)) lambda = ubar on the
+/// free DOFs (K is symmetric: the forward increment's operator) and adds
+/// -d(lambda^T K(b^(i-1)) u^(i))/db^(i-1) to the gradient flowing to the previous increment.
+std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHistory& history,
+                                           const ElasticityOptions& o, const std::vector<double>& gFinal,
+                                           MeshAdjointReport* report = nullptr);
 
 }  // namespace aero::mesh

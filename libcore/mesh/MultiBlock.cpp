@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "common/Error.h"
+#include "nurbs/Basis.h"
 
 namespace aero::mesh {
 
@@ -71,6 +72,71 @@ void regenerateAll(const MultiBlockMesh& m, std::vector<StructuredGrid>& grids) 
         dst[0] = src[0];
         dst[1] = src[1];
         dst[2] = src[2];
+    }
+}
+
+void regenerateTranspose(const MultiBlockMesh& m, int block, const double* gridGradient,
+                         std::vector<double>& controlGradient) {
+    const ControlBlock& b = m.blocks[block];
+    const std::array<int, 3> dims = b.gridDims();
+    // Basis rows per direction: first control index and p+1 values of every sample.
+    std::array<std::vector<int>, 3> first;
+    std::array<std::vector<double>, 3> values;
+    for (int d = 0; d < 3; ++d) {
+        const int p = b.degree[d];
+        first[d].resize(dims[d]);
+        values[d].resize(static_cast<std::size_t>(dims[d]) * (p + 1));
+        for (int s = 0; s < dims[d]; ++s) {
+            const double u = b.samples[d][s];
+            const int span = nurbs::findSpan(b.knots[d], p, b.count[d], u);
+            nurbs::basisFunctions(b.knots[d], p, span, u, &values[d][static_cast<std::size_t>(s) * (p + 1)]);
+            first[d][s] = span - p;
+        }
+    }
+    const int n0 = b.count[0], n1 = b.count[1], n2 = b.count[2];
+    // g1[k][j][a] = sum_i N_a(xi_i) g[k][j][i]
+    std::vector<double> g1(3 * static_cast<std::size_t>(n0) * dims[1] * dims[2], 0.0);
+    const int p0 = b.degree[0], p1 = b.degree[1], p2 = b.degree[2];
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < dims[2]; ++k) {
+        for (int j = 0; j < dims[1]; ++j) {
+            double* out = &g1[3 * (static_cast<std::size_t>(k) * dims[1] + j) * n0];
+            for (int i = 0; i < dims[0]; ++i) {
+                const double* g = gridGradient + 3 * (i + static_cast<long>(dims[0]) * (j + static_cast<long>(dims[1]) * k));
+                for (int t = 0; t <= p0; ++t) {
+                    const double w = values[0][static_cast<std::size_t>(i) * (p0 + 1) + t];
+                    const int a = first[0][i] + t;
+                    for (int c = 0; c < 3; ++c) out[3 * a + c] += w * g[c];
+                }
+            }
+        }
+    }
+    // g2[k][bj][a] = sum_j N_bj(eta_j) g1[k][j][a]
+    std::vector<double> g2(3 * static_cast<std::size_t>(n0) * n1 * dims[2], 0.0);
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < dims[2]; ++k) {
+        for (int j = 0; j < dims[1]; ++j) {
+            const double* in = &g1[3 * (static_cast<std::size_t>(k) * dims[1] + j) * n0];
+            for (int t = 0; t <= p1; ++t) {
+                const double w = values[1][static_cast<std::size_t>(j) * (p1 + 1) + t];
+                double* out = &g2[3 * (static_cast<std::size_t>(k) * n1 + first[1][j] + t) * n0];
+                for (int e = 0; e < 3 * n0; ++e) out[e] += w * in[e];
+            }
+        }
+    }
+    // control[c][bj][a] += sum_k N_c(zeta_k) g2[k][bj][a]
+    const std::size_t plane = 3 * static_cast<std::size_t>(n0) * n1;
+    std::vector<double> g3(plane * n2, 0.0);
+    for (int k = 0; k < dims[2]; ++k) {
+        const double* in = &g2[plane * k];
+        for (int t = 0; t <= p2; ++t) {
+            const double w = values[2][static_cast<std::size_t>(k) * (p2 + 1) + t];
+            double* out = &g3[plane * (first[2][k] + t)];
+            for (std::size_t e = 0; e < plane; ++e) out[e] += w * in[e];
+        }
+    }
+    for (std::size_t a = 0; a < b.nodes.size(); ++a) {
+        for (int c = 0; c < 3; ++c) controlGradient[3 * static_cast<std::size_t>(b.nodes[a]) + c] += g3[3 * a + c];
     }
 }
 

@@ -66,6 +66,11 @@ nurbs::Volume<double> blockVolume(const MultiBlockMesh& m, int block);
 
 /// x = N b for one block (separable tensor-product evaluation).
 void regenerate(const MultiBlockMesh& m, int block, StructuredGrid& out);
+/// The transpose of regenerate: controlGradient (3 per global control node) += N^T gridGradient
+/// (3 per grid node of the block, its node order). Sum factorization in the reverse order of
+/// the evaluation (i, then j, then k contracted).
+void regenerateTranspose(const MultiBlockMesh& m, int block, const double* gridGradient,
+                         std::vector<double>& controlGradient);
 /// All blocks (OpenMP over planes inside each), then interface nodes copied from their owner so
 /// they coincide bit for bit.
 std::vector<StructuredGrid> regenerateAll(const MultiBlockMesh& m);
