@@ -108,9 +108,17 @@ void addJunctionPart(const flow::FlowMesh& fm, const std::vector<double>& metric
 std::vector<double> residualMetricGradient(const flow::FlowMesh& fm, const std::vector<double>& metrics,
                                            const std::vector<double>& q, const std::vector<double>& psi,
                                            const flow::ResidualOptions& o) {
+    return residualMetricGradients(fm, metrics, q, {psi}, o).front();
+}
+
+std::vector<std::vector<double>> residualMetricGradients(const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                                                         const std::vector<double>& q,
+                                                         const std::vector<std::vector<double>>& psis,
+                                                         const flow::ResidualOptions& o) {
     const long N = fm.nodeCount;
-    if (metrics.size() != static_cast<std::size_t>(kMetricWidth * N) || q.size() != static_cast<std::size_t>(kVars * N) ||
-        psi.size() != q.size()) {
+    bool sizes = metrics.size() == static_cast<std::size_t>(kMetricWidth * N) && q.size() == static_cast<std::size_t>(kVars * N);
+    for (const auto& psi : psis) sizes = sizes && psi.size() == q.size();
+    if (!sizes) {
         throw Error("grid sensitivity: metrics, state and adjoint do not match the grid's " + std::to_string(N) +
                     " nodes");
     }
@@ -119,7 +127,7 @@ std::vector<double> residualMetricGradient(const flow::FlowMesh& fm, const std::
     const std::vector<double> normalsReal =
         (o.terms & flow::kBoundarySat) ? flow::wallJunctionNormals(fm, metrics.data()) : std::vector<double>();
     const std::vector<C> normals(normalsReal.begin(), normalsReal.end());
-    std::vector<double> gm(metrics.size(), 0.0);
+    std::vector<std::vector<double>> gms(psis.size(), std::vector<double>(metrics.size(), 0.0));
     std::vector<C> mc(metrics.size()), qc(q.begin(), q.end()), rc(q.size());
     for (int colour = 0; colour < col.count; ++colour) {
         for (int k = 0; k < kMetricWidth; ++k) {
@@ -132,34 +140,44 @@ std::vector<double> residualMetricGradient(const flow::FlowMesh& fm, const std::
             forEachNode(fm, [&](const flow::FlowBlock& blk, long g, const std::array<int, 3>& idx) {
                 if (col.colour(idx[0], idx[1], idx[2]) != colour) return;
                 const long stride[3] = {1, blk.dims[0], static_cast<long>(blk.dims[0]) * blk.dims[1]};
-                double s = 0;
-                auto addRow = [&](long row) {
-                    for (int v = 0; v < kVars; ++v) s += psi[kVars * row + v] * rc[kVars * row + v].imag();
-                };
-                addRow(g);
-                for (int d = 0; d < 3; ++d) {
-                    for (int t = -radius; t <= radius; ++t) {
-                        if (t == 0 || idx[d] + t < 0 || idx[d] + t >= blk.dims[d]) continue;
-                        addRow(g + t * stride[d]);
+                for (std::size_t p = 0; p < psis.size(); ++p) {
+                    const std::vector<double>& psi = psis[p];
+                    double s = 0;
+                    auto addRow = [&](long row) {
+                        for (int v = 0; v < kVars; ++v) s += psi[kVars * row + v] * rc[kVars * row + v].imag();
+                    };
+                    addRow(g);
+                    for (int d = 0; d < 3; ++d) {
+                        for (int t = -radius; t <= radius; ++t) {
+                            if (t == 0 || idx[d] + t < 0 || idx[d] + t >= blk.dims[d]) continue;
+                            addRow(g + t * stride[d]);
+                        }
                     }
+                    gms[p][kMetricWidth * g + k] = s / kStep;
                 }
-                gm[kMetricWidth * g + k] = s / kStep;
             });
         }
     }
-    addJunctionPart(fm, metrics, q, psi, o, gm);
-    return gm;
+    for (std::size_t p = 0; p < psis.size(); ++p) addJunctionPart(fm, metrics, q, psis[p], o, gms[p]);
+    return gms;
 }
 
 std::vector<double> metricTranspose(const flow::FlowMesh& fm, const std::vector<double>& x,
                                     const std::vector<double>& gm) {
+    return metricTransposes(fm, x, {gm}).front();
+}
+
+std::vector<std::vector<double>> metricTransposes(const flow::FlowMesh& fm, const std::vector<double>& x,
+                                                  const std::vector<std::vector<double>>& gms) {
     const long N = fm.nodeCount;
-    if (x.size() != static_cast<std::size_t>(3 * N) || gm.size() != static_cast<std::size_t>(kMetricWidth * N)) {
+    bool sizes = x.size() == static_cast<std::size_t>(3 * N);
+    for (const auto& gm : gms) sizes = sizes && gm.size() == static_cast<std::size_t>(kMetricWidth * N);
+    if (!sizes) {
         throw Error("grid sensitivity: coordinates or metric gradient do not match the grid's " + std::to_string(N) +
                     " nodes");
     }
-    std::vector<double> gx(x.size(), 0.0);
-    std::vector<C> xc(x.size()), mc(gm.size());
+    std::vector<std::vector<double>> gxs(gms.size(), std::vector<double>(x.size(), 0.0));
+    std::vector<C> xc(x.size()), mc(kMetricWidth * static_cast<std::size_t>(N));
     auto colourOf = [](const std::array<int, 3>& idx) { return idx[0] % 3 + 3 * (idx[1] % 3) + 9 * (idx[2] % 3); };
     for (int colour = 0; colour < 27; ++colour) {
         for (int c = 0; c < 3; ++c) {
@@ -170,26 +188,32 @@ std::vector<double> metricTranspose(const flow::FlowMesh& fm, const std::vector<
             flow::computeMetrics(fm, xc.data(), mc.data());
             forEachNode(fm, [&](const flow::FlowBlock& blk, long g, const std::array<int, 3>& idx) {
                 if (colourOf(idx) != colour) return;
-                double s = 0;
-                for (int dk = -1; dk <= 1; ++dk) {
-                    const int k = idx[2] + dk;
-                    if (k < 0 || k >= blk.dims[2]) continue;
-                    for (int dj = -1; dj <= 1; ++dj) {
-                        const int j = idx[1] + dj;
-                        if (j < 0 || j >= blk.dims[1]) continue;
-                        for (int di = -1; di <= 1; ++di) {
-                            const int i = idx[0] + di;
-                            if (i < 0 || i >= blk.dims[0]) continue;
-                            const long n = blk.offset + i + static_cast<long>(blk.dims[0]) * (j + static_cast<long>(blk.dims[1]) * k);
-                            for (int w = 0; w < kMetricWidth; ++w) s += gm[kMetricWidth * n + w] * mc[kMetricWidth * n + w].imag();
+                for (std::size_t p = 0; p < gms.size(); ++p) {
+                    const std::vector<double>& gm = gms[p];
+                    double s = 0;
+                    for (int dk = -1; dk <= 1; ++dk) {
+                        const int k = idx[2] + dk;
+                        if (k < 0 || k >= blk.dims[2]) continue;
+                        for (int dj = -1; dj <= 1; ++dj) {
+                            const int j = idx[1] + dj;
+                            if (j < 0 || j >= blk.dims[1]) continue;
+                            for (int di = -1; di <= 1; ++di) {
+                                const int i = idx[0] + di;
+                                if (i < 0 || i >= blk.dims[0]) continue;
+                                const long n = blk.offset + i +
+                                               static_cast<long>(blk.dims[0]) * (j + static_cast<long>(blk.dims[1]) * k);
+                                for (int w = 0; w < kMetricWidth; ++w) {
+                                    s += gm[kMetricWidth * n + w] * mc[kMetricWidth * n + w].imag();
+                                }
+                            }
                         }
                     }
+                    gxs[p][3 * g + c] = s / kStep;
                 }
-                gx[3 * g + c] = s / kStep;
             });
         }
     }
-    return gx;
+    return gxs;
 }
 
 void addFunctionalGridGradient(Functional f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
@@ -224,12 +248,25 @@ std::vector<double> coordinateGradient(Functional f, const std::vector<double>& 
                                        const std::vector<double>& x, const std::vector<double>& metrics,
                                        const std::vector<double>& q, const flow::ResidualOptions& o,
                                        const flow::ForceReference& ref) {
-    std::vector<double> gm = residualMetricGradient(fm, metrics, q, psi, o);
-    std::vector<double> direct(x.size(), 0.0);
-    addFunctionalGridGradient(f, fm, metrics, x, q, o.freeStream, ref, gm, direct);
-    std::vector<double> gx = metricTranspose(fm, x, gm);
-    for (std::size_t i = 0; i < gx.size(); ++i) gx[i] += direct[i];
-    return gx;
+    return coordinateGradients({f}, {psi}, fm, x, metrics, q, o, ref).front();
+}
+
+std::vector<std::vector<double>> coordinateGradients(const std::vector<Functional>& fs,
+                                                     const std::vector<std::vector<double>>& psis,
+                                                     const flow::FlowMesh& fm, const std::vector<double>& x,
+                                                     const std::vector<double>& metrics, const std::vector<double>& q,
+                                                     const flow::ResidualOptions& o, const flow::ForceReference& ref) {
+    if (fs.size() != psis.size()) throw Error("grid sensitivity: one adjoint per functional");
+    std::vector<std::vector<double>> gms = residualMetricGradients(fm, metrics, q, psis, o);
+    std::vector<std::vector<double>> direct(fs.size(), std::vector<double>(x.size(), 0.0));
+    for (std::size_t p = 0; p < fs.size(); ++p) {
+        addFunctionalGridGradient(fs[p], fm, metrics, x, q, o.freeStream, ref, gms[p], direct[p]);
+    }
+    std::vector<std::vector<double>> gxs = metricTransposes(fm, x, gms);
+    for (std::size_t p = 0; p < fs.size(); ++p) {
+        for (std::size_t i = 0; i < x.size(); ++i) gxs[p][i] += direct[p][i];
+    }
+    return gxs;
 }
 
 }  // namespace aero::adjoint

@@ -27,9 +27,17 @@ std::vector<double> residualMetricGradient(const flow::FlowMesh& fm, const std::
                                            const std::vector<double>& q, const std::vector<double>& psi,
                                            const flow::ResidualOptions& o);
 
+/// The same for several adjoints at once (the complex residuals are shared).
+std::vector<std::vector<double>> residualMetricGradients(const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                                                         const std::vector<double>& q,
+                                                         const std::vector<std::vector<double>>& psis,
+                                                         const flow::ResidualOptions& o);
+
 /// g_x = (dm/dx)^T g_m: 3 values per node, from g_m (kMetricWidth per node) at coordinates x.
 std::vector<double> metricTranspose(const flow::FlowMesh& fm, const std::vector<double>& x,
                                     const std::vector<double>& gm);
+std::vector<std::vector<double>> metricTransposes(const flow::FlowMesh& fm, const std::vector<double>& x,
+                                                  const std::vector<std::vector<double>>& gms);
 
 /// Adds dJ/dm (into gm) and the direct dJ/dx (into gx, the moment arm) of functional f at
 /// fixed q.
@@ -43,5 +51,11 @@ std::vector<double> coordinateGradient(Functional f, const std::vector<double>& 
                                        const std::vector<double>& x, const std::vector<double>& metrics,
                                        const std::vector<double>& q, const flow::ResidualOptions& o,
                                        const flow::ForceReference& ref);
+/// The same for several functionals with their adjoints (one coloured sweep for all).
+std::vector<std::vector<double>> coordinateGradients(const std::vector<Functional>& fs,
+                                                     const std::vector<std::vector<double>>& psis,
+                                                     const flow::FlowMesh& fm, const std::vector<double>& x,
+                                                     const std::vector<double>& metrics, const std::vector<double>& q,
+                                                     const flow::ResidualOptions& o, const flow::ForceReference& ref);
 
 }  // namespace aero::adjoint

@@ -86,6 +86,8 @@ struct MeshResult {
                                              // folded grid, for inspection; empty if cancelled)
     std::vector<mesh::CellQuality> cellQuality;  // per block, per cell
     mesh::MoveReport move;                   // empty when the wall is the baseline's
+    mesh::MoveHistory history;               // every increment's grid and displacement (for the
+                                             // mesh adjoint; empty when not moved)
     bool moved = false;                      // false when the shape's wall is the baseline's
     mesh::QualitySummary quality;
     mesh::SpacingJump spacingJump;

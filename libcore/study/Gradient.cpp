@@ -1,0 +1,176 @@
+#include "study/Gradient.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "adjoint/GridSensitivity.h"
+#include "common/Error.h"
+#include "mesh/MultiBlock.h"
+
+namespace aero::study {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, f, a, b, c);
+    return buf;
+}
+
+constexpr const char* kRatio = "CL/CD";
+
+}  // namespace
+
+void checkGradientFunctional(const std::string& name) {
+    if (name == kRatio) return;
+    try {
+        (void)adjoint::functionalByName(name);
+    } catch (const CaseError&) {
+        throw CaseError("unknown functional '" + name + "' (expected CL, CD, CM, CY or CL/CD)");
+    }
+}
+
+const FunctionalGradient* GradientResult::find(const std::string& name) const {
+    for (const FunctionalGradient& f : functionals) {
+        if (f.name == name) return &f;
+    }
+    return nullptr;
+}
+
+GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const GradientOptions& o, const Log& log) {
+    GradientResult res;
+    if (!e.ok() || !e.mesh || !e.flow) {
+        res.message = "the design was not evaluated through the flow stage" + (e.message.empty() ? "" : ": " + e.message);
+        return res;
+    }
+    // The base functionals the requested ones need.
+    std::vector<adjoint::Functional> bases;
+    auto need = [&](adjoint::Functional f) {
+        for (adjoint::Functional b : bases) {
+            if (b == f) return;
+        }
+        bases.push_back(f);
+    };
+    for (const std::string& name : o.functionals) {
+        checkGradientFunctional(name);
+        if (name == kRatio) {
+            need(adjoint::Functional::CL);
+            need(adjoint::Functional::CD);
+        } else {
+            need(adjoint::functionalByName(name));
+        }
+    }
+    const FlowResult& f = *e.flow;
+    const MeshResult& m = *e.mesh;
+    const io::CaseFile& c = ev.caseFile();
+    const flow::FreeStream& fs = f.residualOptions.freeStream;
+
+    auto t = std::chrono::steady_clock::now();
+    const adjoint::FlowLinearization lin(f.mesh, f.metrics, f.q, f.residualOptions, o.adjoint);
+    res.secondsLinearization = since(t);
+    if (log) log(fmt("assembled the exact flow Jacobian and its preconditioner: %.1f s", res.secondsLinearization));
+
+    t = std::chrono::steady_clock::now();
+    std::vector<adjoint::AdjointSolution> adj;
+    for (adjoint::Functional b : bases) {
+        adj.push_back(adjoint::solveAdjoint(lin, b, f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference));
+        res.adjoints.push_back(adj.back().report);
+        if (log) {
+            log(std::string("flow adjoint of ") + adjoint::functionalName(b) +
+                fmt(": %.0f GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
+                    adj.back().report.relativeResidual, adj.back().report.seconds));
+        }
+        if (!adj.back().report.converged()) {
+            res.message = std::string("the flow adjoint of ") + adjoint::functionalName(b) +
+                          " did not converge: " + adj.back().report.message;
+            return res;
+        }
+    }
+    res.secondsAdjoint = since(t);
+
+    t = std::chrono::steady_clock::now();
+    std::vector<std::vector<double>> psis;
+    for (const auto& a : adj) psis.push_back(a.psi);
+    const std::vector<std::vector<double>> gx =
+        adjoint::coordinateGradients(bases, psis, f.mesh, f.x, f.metrics, f.q, f.residualOptions, c.flow.reference);
+    res.secondsGrid = since(t);
+    if (log) log(fmt("grid sensitivities (psi^T dR/dx + dJ/dx): %.1f s", res.secondsGrid));
+
+    // The forward move's increments (a shape whose wall is the baseline's was not moved: the
+    // move's linearization is then m solves on the baseline grid with zero displacement).
+    t = std::chrono::steady_clock::now();
+    mesh::MoveHistory still;
+    const mesh::MoveHistory* history = &m.history;
+    if (!m.moved) {
+        const int increments = c.mesh.elasticity.increments;
+        still.before.assign(increments, m.control.control);
+        still.displacement.assign(increments, std::vector<double>(m.control.control.size(), 0.0));
+        history = &still;
+    }
+    res.historyBytes = history->bytes();
+    std::vector<std::vector<double>> gA;
+    for (std::size_t p = 0; p < bases.size(); ++p) {
+        std::vector<double> gb(m.control.control.size(), 0.0);
+        for (std::size_t b = 0; b < f.mesh.blocks.size(); ++b) {
+            mesh::regenerateTranspose(m.control, static_cast<int>(b), &gx[p][3 * f.mesh.blocks[b].offset], gb);
+        }
+        mesh::MeshAdjointReport mr;
+        gA.push_back(mesh::moveControlGridAdjoint(m.control, *history, c.mesh.elasticity, gb, &mr));
+        res.meshAdjoints.push_back(mr);
+        if (!mr.converged) {
+            res.message = std::string("the mesh adjoint of ") + adjoint::functionalName(bases[p]) +
+                          " did not converge: " + mr.message;
+            return res;
+        }
+    }
+    res.secondsMesh = since(t);
+    if (log) {
+        log(fmt("mesh adjoint: %.0f increments in reverse, %.1f s (%.1f MB of stored increments)",
+                static_cast<double>(history->before.size()), res.secondsMesh, res.historyBytes / 1e6));
+    }
+
+    t = std::chrono::steady_clock::now();
+    Eigen::SparseMatrix<double> dAdv;
+    if (ev.model()) dAdv = ev.model()->dUniqueDv();
+    std::vector<FunctionalGradient> base(bases.size());
+    for (std::size_t p = 0; p < bases.size(); ++p) {
+        base[p].name = adjoint::functionalName(bases[p]);
+        base[p].value = adjoint::functionalValue(bases[p], f.forces);
+        if (ev.model()) {
+            const Eigen::Map<const Eigen::VectorXd> g(gA[p].data(), static_cast<Eigen::Index>(gA[p].size()));
+            const Eigen::VectorXd dv = dAdv.transpose() * g;
+            base[p].dv.assign(dv.data(), dv.data() + dv.size());
+        }
+        base[p].dalpha = adjoint::alphaDerivative(adj[p], f.mesh, f.metrics, f.q, f.residualOptions, f.forces);
+    }
+    auto baseOf = [&](adjoint::Functional b) -> const FunctionalGradient& {
+        for (std::size_t p = 0; p < bases.size(); ++p) {
+            if (bases[p] == b) return base[p];
+        }
+        throw Error("gradient: missing base functional");
+    };
+    for (const std::string& name : o.functionals) {
+        if (name != kRatio) {
+            res.functionals.push_back(baseOf(adjoint::functionalByName(name)));
+            continue;
+        }
+        const FunctionalGradient& L = baseOf(adjoint::Functional::CL);
+        const FunctionalGradient& D = baseOf(adjoint::Functional::CD);
+        FunctionalGradient r;
+        r.name = kRatio;
+        r.value = L.value / D.value;
+        r.dv.resize(L.dv.size());
+        for (std::size_t i = 0; i < L.dv.size(); ++i) r.dv[i] = (L.dv[i] * D.value - L.value * D.dv[i]) / (D.value * D.value);
+        r.dalpha = (L.dalpha * D.value - L.value * D.dalpha) / (D.value * D.value);
+        res.functionals.push_back(r);
+    }
+    res.secondsChain = since(t);
+    res.ok = true;
+    return res;
+}
+
+}  // namespace aero::study

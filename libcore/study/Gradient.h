@@ -1,0 +1,57 @@
+#pragma once
+// Gradients of the case's functionals with respect to all design variables at an evaluated design:
+// the discrete adjoint of the paper's Section IV.B through flow, grid regeneration, mesh movement
+// and both FFD levels:
+//   flow adjoint     (dR/dq)^T psi = -(dJ/dq)^T                       (adjoint/FlowAdjoint.h)
+//   grid             g_x = dJ/dx + psi^T dR/dx                         (adjoint/GridSensitivity.h)
+//   regeneration     g_b = N^T g_x                                     (mesh::regenerateTranspose)
+//   mesh adjoint     g_A: the elasticity increments in reverse (Eq. 9) (mesh::moveControlGridAdjoint)
+//   first level      dJ/dv = (dA/dB dB/dv)^T g_A                       (ffd::FfdModel::dUniqueDv)
+//   angle of attack  dJ/dalpha = dJ/dalpha|_q + psi^T dR/dalpha
+// One flow linearization serves every functional; a ratio (CL/CD) is the quotient rule on two.
+// The cost does not depend on the number of design variables.
+#include <string>
+#include <vector>
+
+#include "adjoint/FlowAdjoint.h"
+#include "mesh/Elasticity.h"
+#include "study/CaseEvaluator.h"
+
+namespace aero::study {
+
+/// "CL", "CD", "CM", "CY" (adjoint::functionalByName) or the ratio "CL/CD". Throws CaseError
+/// naming the choices for anything else.
+void checkGradientFunctional(const std::string& name);
+
+struct GradientOptions {
+    std::vector<std::string> functionals{"CL", "CD"};
+    adjoint::AdjointOptions adjoint;
+};
+
+struct FunctionalGradient {
+    std::string name;
+    double value = 0;
+    std::vector<double> dv;  // per design variable (the evaluator's order)
+    double dalpha = 0;       // per degree of angle of attack
+};
+
+struct GradientResult {
+    bool ok = false;
+    std::string message;  // the reason when not ok
+    std::vector<FunctionalGradient> functionals;
+    std::vector<adjoint::LinearSolveReport> adjoints;   // per base functional (CL, CD, ...)
+    std::vector<mesh::MeshAdjointReport> meshAdjoints;  // per base functional
+    double secondsLinearization = 0, secondsAdjoint = 0, secondsGrid = 0, secondsMesh = 0, secondsChain = 0;
+    std::size_t historyBytes = 0;  // the forward move's stored increments
+    double seconds() const {
+        return secondsLinearization + secondsAdjoint + secondsGrid + secondsMesh + secondsChain;
+    }
+    const FunctionalGradient* find(const std::string& name) const;
+};
+
+/// The gradients at evaluation e (which must be ok, with mesh and flow stages run by ev).
+/// Never throws for a linear solve that does not converge: the result says why.
+GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const GradientOptions& o = {},
+                               const Log& log = {});
+
+}  // namespace aero::study
