@@ -62,6 +62,8 @@ int cmdMesh(const Args& args);
 int cmdFit(const Args& args);
 int cmdFlow(const Args& args);
 int cmdSweep(const Args& args);
+int cmdGradient(const Args& args);
+int cmdGradientCheck(const Args& args);
 /// The deform command's work for a case file (also `aeroform --batch CASE`).
 int runDeform(const std::string& casePath, bool json, bool list);
 /// The mesh command's work (also `aeroform --batch CASE` for cases with a "mesh" section).

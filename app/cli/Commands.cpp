@@ -203,6 +203,8 @@ const char* kMainHelp =
     "  mesh CASE [--json]             B-spline volume grid, elasticity move, quality, VTK/Plot3D\n"
     "  flow CASE [--json]             deform, grid, Euler solution: forces, Cp/Mach/entropy VTK\n"
     "  sweep CASE [--random N]        the flow over the design space: scaled and random designs\n"
+    "  gradient CASE [--json]         dJ/dv of CL, CD, CL/CD by the discrete adjoint, all variables\n"
+    "  gradient-check CASE [--groups] the adjoint's directional derivative vs centred differences\n"
     "  fit GRID.xyz [--json]          fit B-spline volumes to your own Plot3D grid, report errors\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
@@ -238,6 +240,8 @@ int runCli(int argc, char** argv) {
     if (cmd == "fit") return cmdFit(args);
     if (cmd == "flow") return cmdFlow(args);
     if (cmd == "sweep") return cmdSweep(args);
+    if (cmd == "gradient") return cmdGradient(args);
+    if (cmd == "gradient-check") return cmdGradientCheck(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }

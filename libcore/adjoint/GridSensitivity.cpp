@@ -17,16 +17,16 @@ using flow::kMetricWidth;
 using flow::kVars;
 constexpr double kStep = 1e-30;  // complex step: exact to round-off
 
-// Calls fn(global node, i, j, k) for every node of every block, in parallel within a block.
+// Calls fn(block, global node, (i, j, k)) for every node of every block: one parallel region
+// over the blocks (with passive OpenMP waiting a region per block costs a wake-up each).
 template <class Fn>
 void forEachNode(const flow::FlowMesh& fm, Fn&& fn) {
-    for (const flow::FlowBlock& blk : fm.blocks) {
+    const long nb = static_cast<long>(fm.blocks.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long b = 0; b < nb; ++b) {
+        const flow::FlowBlock& blk = fm.blocks[b];
         const long count = blk.nodeCount();
-#pragma omp parallel for schedule(static)
-        for (long n = 0; n < count; ++n) {
-            const auto idx = flow::nodeIndex(blk.dims, n);
-            fn(blk, blk.offset + n, idx);
-        }
+        for (long n = 0; n < count; ++n) fn(blk, blk.offset + n, flow::nodeIndex(blk.dims, n));
     }
 }
 

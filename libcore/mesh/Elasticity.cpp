@@ -4,6 +4,8 @@
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -205,6 +207,52 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
     }
 }
 
+double hexBilinearGradient(const double* x, double nu, const double* a, const double* b, double* grad) {
+    // s = sum_q det J_q Phi(A_q, B_q) with A = a^T G, G = dN J^-1 (8 x 3). For coordinate r of
+    // corner n: d det = det G(n, r), dG = -G e_r G_n^T, so dA = -A e_r G_n^T (and dB alike), and
+    // Phi being symmetric and bilinear, d Phi = -(G_n^T (P + Q))_r with
+    // P = lambda tr(B) A + mu (B A + B^T A), Q = lambda tr(A) B + mu (A B + A^T B).
+    const double lambda = nu / ((1 + nu) * (1 - 2 * nu));
+    const double mu = 1.0 / (2 * (1 + nu));
+    const double g = 1.0 / std::sqrt(3.0);
+    double sum = 0;
+    for (int i = 0; i < 24; ++i) grad[i] = 0;
+    for (int q = 0; q < 8; ++q) {
+        double dN[8][3];
+        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
+        Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+        for (int n = 0; n < 8; ++n) {
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * n + r] * dN[n][c];
+            }
+        }
+        const double det = J.determinant();
+        const Eigen::Matrix3d Jinv = J.inverse();
+        Eigen::Matrix<double, 8, 3> G;
+        for (int n = 0; n < 8; ++n) {
+            for (int c = 0; c < 3; ++c) G(n, c) = dN[n][0] * Jinv(0, c) + dN[n][1] * Jinv(1, c) + dN[n][2] * Jinv(2, c);
+        }
+        Eigen::Matrix3d A = Eigen::Matrix3d::Zero(), B = Eigen::Matrix3d::Zero();
+        for (int n = 0; n < 8; ++n) {
+            for (int i = 0; i < 3; ++i) {
+                for (int c = 0; c < 3; ++c) {
+                    A(i, c) += a[3 * n + i] * G(n, c);
+                    B(i, c) += b[3 * n + i] * G(n, c);
+                }
+            }
+        }
+        const double phi = lambda * A.trace() * B.trace() + mu * ((A * B).trace() + (A.array() * B.array()).sum());
+        const Eigen::Matrix3d PQ = lambda * B.trace() * A + mu * (B * A + B.transpose() * A) + lambda * A.trace() * B +
+                                   mu * (A * B + A.transpose() * B);
+        sum += det * phi;
+        const Eigen::Matrix<double, 8, 3> GPQ = G * PQ;
+        for (int n = 0; n < 8; ++n) {
+            for (int r = 0; r < 3; ++r) grad[3 * n + r] += det * (G(n, r) * phi - GPQ(n, r));
+        }
+    }
+    return sum;
+}
+
 std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o, double meanVolume) {
     std::vector<double> E;
     forEachCell(m, m.blocks[block], [&](const double* x, const int*) { E.push_back(cellModulus(x, meanVolume, o)); });
@@ -324,55 +372,71 @@ FreeSystem assembleFree(const MultiBlockMesh& m, const std::vector<char>& constr
     return s;
 }
 
-// Solves A x = rhs (x0: the starting guess) as the options ask: conjugate gradients with
-// incomplete Cholesky, then (Auto, Direct) a supernodal sparse Cholesky. Fills the report fields
-// of r (iterations, residual, converged, direct, message).
-Eigen::VectorXd solveFree(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0,
-                          const ElasticityOptions& o, IncrementResult& r) {
-    Eigen::VectorXd sol;
-    bool solved = false;
-    if (o.solver != ElasticityOptions::Solver::Direct) {
-        // Incomplete Cholesky in the natural (structured) node order: on the half-sphere control grid
-        // it needs 340 iterations where AMD ordering needs 570 and Jacobi 951, and factors faster.
-        Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                                 Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
-            cg;
-        cg.setTolerance(o.tolerance);
-        cg.setMaxIterations(o.solver == ElasticityOptions::Solver::Auto ? std::min(o.maxIterations, o.directAfter)
-                                                                          : o.maxIterations);
-        cg.compute(A);
-        sol = (cg.info() == Eigen::Success) ? Eigen::VectorXd(cg.solveWithGuess(rhs, x0)) : x0;
-        r.iterations = static_cast<int>(cg.iterations());
-        r.residual = cg.error();
-        r.converged = cg.info() == Eigen::Success && r.residual <= o.tolerance;
-        solved = r.converged || o.solver == ElasticityOptions::Solver::Iterative;
-        if (!r.converged) {
-            r.message = "PCG stopped at relative residual " + std::to_string(r.residual) + " after " +
-                        std::to_string(r.iterations) + " iterations";
+// Solves A x = rhs as the options ask: conjugate gradients with incomplete Cholesky, then (Auto,
+// Direct) a supernodal sparse Cholesky. Factors once; several right-hand sides reuse the factors
+// (the mesh adjoint's functionals share each increment's K).
+class FreeSolver {
+public:
+    FreeSolver(const Eigen::SparseMatrix<double>& A, const ElasticityOptions& o) : A_(A), o_(o) {
+        if (o.solver != ElasticityOptions::Solver::Direct) {
+            // Incomplete Cholesky in the natural (structured) node order: on the half-sphere control
+            // grid it needs 340 iterations where AMD ordering needs 570 and Jacobi 951, and factors
+            // faster.
+            cg_.setTolerance(o.tolerance);
+            cg_.setMaxIterations(o.solver == ElasticityOptions::Solver::Auto ? std::min(o.maxIterations, o.directAfter)
+                                                                               : o.maxIterations);
+            cg_.compute(A);
         }
     }
-    if (!solved) {
+
+    // x0: the starting guess. Fills the report fields of r (iterations, residual, converged,
+    // direct, message).
+    Eigen::VectorXd solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0, IncrementResult& r) {
+        Eigen::VectorXd sol;
+        bool solved = false;
+        if (o_.solver != ElasticityOptions::Solver::Direct) {
+            sol = (cg_.info() == Eigen::Success) ? Eigen::VectorXd(cg_.solveWithGuess(rhs, x0)) : x0;
+            r.iterations = static_cast<int>(cg_.iterations());
+            r.residual = cg_.error();
+            r.converged = cg_.info() == Eigen::Success && r.residual <= o_.tolerance;
+            solved = r.converged || o_.solver == ElasticityOptions::Solver::Iterative;
+            if (!r.converged) {
+                r.message = "PCG stopped at relative residual " + std::to_string(r.residual) + " after " +
+                            std::to_string(r.iterations) + " iterations";
+            }
+        }
+        if (solved) return sol;
         // Supernodal sparse Cholesky: K is SPD for -1 < poisson < 0.5 and positive cell volumes,
         // and the solve is exact to round-off however distorted the cells are.
-        Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
-        llt.cholmod().print = 0;  // no CHOLMOD warnings on stderr: a failure is reported in r.message
-        llt.compute(A);
         r.direct = true;
-        if (llt.info() != Eigen::Success) {
+        if (!factored_) {
+            llt_.cholmod().print = 0;  // no CHOLMOD warnings on stderr: a failure is reported in r.message
+            llt_.compute(A_);
+            factored_ = true;
+        }
+        if (llt_.info() != Eigen::Success) {
             r.converged = false;
             r.residual = 1.0;
             r.message = "the stiffness matrix is not positive definite (a control cell is degenerate)";
-            sol = Eigen::VectorXd::Zero(rhs.size());
-        } else {
-            sol = llt.solve(rhs);
-            const double bn = rhs.norm();
-            r.residual = bn > 0 ? (A * sol - rhs).norm() / bn : 0.0;
-            r.converged = std::isfinite(r.residual) && r.residual <= std::max(o.tolerance, 1e-8);
-            r.message = r.converged ? "" : "the direct solve left a relative residual of " + std::to_string(r.residual);
+            return Eigen::VectorXd::Zero(rhs.size());
         }
+        sol = llt_.solve(rhs);
+        const double bn = rhs.norm();
+        r.residual = bn > 0 ? (A_ * sol - rhs).norm() / bn : 0.0;
+        r.converged = std::isfinite(r.residual) && r.residual <= std::max(o_.tolerance, 1e-8);
+        r.message = r.converged ? "" : "the direct solve left a relative residual of " + std::to_string(r.residual);
+        return sol;
     }
-    return sol;
-}
+
+private:
+    const Eigen::SparseMatrix<double>& A_;
+    ElasticityOptions o_;
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                             Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
+        cg_;
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
+    bool factored_ = false;
+};
 
 }  // namespace
 
@@ -394,7 +458,8 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
             if (s.freeIndex[d] >= 0) x0[s.freeIndex[d]] = (*initial)[d];
         }
     }
-    const Eigen::VectorXd sol = solveFree(s.A, s.rhs, x0, o, r);
+    FreeSolver solver(s.A, o);
+    const Eigen::VectorXd sol = solver.solve(s.rhs, x0, r);
     r.u.assign(ndof, 0.0);
     for (int d = 0; d < ndof; ++d) r.u[d] = s.freeIndex[d] >= 0 ? sol[s.freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
     return r;
@@ -472,37 +537,47 @@ std::size_t MoveHistory::bytes() const {
 
 namespace {
 
-// Calls fn(x, nodes) for every control cell of every block, in parallel over the cells of a
-// block (fn must only write per-thread or per-cell data, or accumulate atomically).
+// Calls fn(x, nodes, cell) for every control cell of every block (cell: a global cell number,
+// blocks one after the other), in parallel over the cells (fn must only write per-cell data, or
+// accumulate atomically). One parallel region for all blocks.
 template <class Fn>
 void forEachCellParallel(const MultiBlockMesh& m, Fn&& fn) {
-    for (const ControlBlock& b : m.blocks) {
-        const int ni = b.count[0] - 1, nj = b.count[1] - 1, nk = b.count[2] - 1;
-        const long cells = static_cast<long>(ni) * nj * nk;
-#pragma omp parallel for schedule(dynamic, 16)
-        for (long cell = 0; cell < cells; ++cell) {
-            double x[24];
-            int nodes[8];
-            cellCorners(m, b, static_cast<int>(cell % ni), static_cast<int>((cell / ni) % nj),
-                        static_cast<int>(cell / (static_cast<long>(ni) * nj)), x, nodes);
-            fn(x, nodes);
-        }
+    std::vector<long> first(m.blocks.size() + 1, 0);
+    for (std::size_t b = 0; b < m.blocks.size(); ++b) {
+        const ControlBlock& cb = m.blocks[b];
+        first[b + 1] = first[b] + static_cast<long>(cb.count[0] - 1) * (cb.count[1] - 1) * (cb.count[2] - 1);
+    }
+    const long total = first.back();
+#pragma omp parallel for schedule(dynamic, 64)
+    for (long cell = 0; cell < total; ++cell) {
+        const std::size_t b = static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), cell) - first.begin() - 1);
+        const ControlBlock& cb = m.blocks[b];
+        const long c = cell - first[b];
+        const int ni = cb.count[0] - 1, nj = cb.count[1] - 1;
+        double x[24];
+        int nodes[8];
+        cellCorners(m, cb, static_cast<int>(c % ni), static_cast<int>((c / ni) % nj),
+                    static_cast<int>(c / (static_cast<long>(ni) * nj)), x, nodes);
+        fn(x, nodes, cell);
     }
 }
 
-double meanCellVolume(const MultiBlockMesh& m, long* count = nullptr) {
+long cellCount(const MultiBlockMesh& m) {
+    long n = 0;
+    for (const ControlBlock& b : m.blocks) n += static_cast<long>(b.count[0] - 1) * (b.count[1] - 1) * (b.count[2] - 1);
+    return n;
+}
+
+double meanCellVolume(const MultiBlockMesh& m) {
     double total = 0;
-    long cells = 0;
     for (const ControlBlock& b : m.blocks) {
         forEachCell(m, b, [&](const double* x, const int*) {
             double vol = 0, q = 0;
             cellMetrics(x, vol, q);
             total += vol;
-            ++cells;
         });
     }
-    if (count) *count = cells;
-    return total / std::max(1L, cells);
+    return total / std::max(1L, cellCount(m));
 }
 
 void atomicAdd(std::vector<double>& g, std::size_t i, double v) {
@@ -515,7 +590,7 @@ void atomicAdd(std::vector<double>& g, std::size_t i, double v) {
 std::vector<double> stiffnessProduct(const MultiBlockMesh& m, const ElasticityOptions& o, const std::vector<double>& v) {
     const double mean = meanCellVolume(m);
     std::vector<double> out(m.control.size(), 0.0);
-    forEachCellParallel(m, [&](const double* x, const int* nodes) {
+    forEachCellParallel(m, [&](const double* x, const int* nodes, long) {
         double K[24 * 24];
         hexStiffness<double>(x, cellModulus(x, mean, o), o.poisson, K);
         for (int r = 0; r < 24; ++r) {
@@ -529,50 +604,71 @@ std::vector<double> stiffnessProduct(const MultiBlockMesh& m, const ElasticityOp
 
 std::vector<double> stiffnessProductGradient(const MultiBlockMesh& m, const ElasticityOptions& o,
                                              const std::vector<double>& lambda, const std::vector<double>& u) {
+    return stiffnessProductGradients(m, o, {lambda}, u).front();
+}
+
+std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh& m, const ElasticityOptions& o,
+                                                           const std::vector<std::vector<double>>& lambdas,
+                                                           const std::vector<double>& u) {
+    // K_e = E(x, mean) K1_e(x) with K1 the stiffness of unit modulus, so for s = lambda^T K u
+    //   ds/dx = E ds1/dx + s1 dE/dx,   ds/dmean = s1 dE/dmean = s1 E size_stiffening / mean,
+    // and d mean/dx = (1/N) d vol/dx. dE/dx and d vol/dx are shared by all lambdas.
     using C = std::complex<double>;
     constexpr double h = 1e-30;
-    long cells = 0;
-    const double mean = meanCellVolume(m, &cells);
-    std::vector<double> g(m.control.size(), 0.0);
-    double dMean = 0;  // d(lambda^T K u)/d(mean volume)
-    // lambda_e^T K_e(x, E(x, mean)) u_e of one cell, complex (without forming K_e).
-    auto cellProduct = [&](const C* xc, C meanc, const int* nodes) {
-        double le[24], ue[24];
+    const long cells = cellCount(m);
+    const double mean = meanCellVolume(m);
+    const std::size_t nl = lambdas.size();
+    std::vector<std::vector<double>> g(nl, std::vector<double>(m.control.size(), 0.0));
+    std::vector<double> dMean(nl, 0.0);
+    std::vector<double> dVol(24 * static_cast<std::size_t>(cells), 0.0);
+    forEachCellParallel(m, [&](const double* x, const int* nodes, long cell) {
+        double ue[24];
+        std::vector<std::array<double, 24>> le(nl);
+        std::vector<char> active(nl, 0);
         for (int r = 0; r < 24; ++r) {
-            le[r] = lambda[3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3];
-            ue[r] = u[3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3];
+            const std::size_t dof = 3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3;
+            ue[r] = u[dof];
+            for (std::size_t p = 0; p < nl; ++p) {
+                le[p][r] = lambdas[p][dof];
+                active[p] = active[p] || le[p][r] != 0;
+            }
         }
-        return hexBilinear<C>(xc, cellModulus<C>(xc, meanc, o), o.poisson, le, ue);
-    };
-    forEachCellParallel(m, [&](const double* x, const int* nodes) {
-        bool any = false;
-        for (int a = 0; a < 8 && !any; ++a) {
-            for (int c = 0; c < 3; ++c) any = any || lambda[3 * static_cast<std::size_t>(nodes[a]) + c] != 0;
+        const double E = cellModulus(x, mean, o);
+        double vol0 = 0, q0 = 0;
+        cellMetrics(x, vol0, q0);
+        std::vector<double> s1(nl, 0.0);
+        std::vector<std::array<double, 24>> ds1(nl);
+        for (std::size_t p = 0; p < nl; ++p) {
+            if (active[p]) s1[p] = hexBilinearGradient(x, o.poisson, le[p].data(), ue, ds1[p].data());
         }
-        if (!any) return;
         C xc[24];
         for (int i = 0; i < 24; ++i) xc[i] = x[i];
         for (int i = 0; i < 24; ++i) {
             xc[i] += C(0.0, h);
-            const double d = cellProduct(xc, C(mean), nodes).imag() / h;
+            const double dE = cellModulus<C>(xc, C(mean), o).imag() / h;
+            C vol, q;
+            cellMetrics(xc, vol, q);
+            dVol[24 * static_cast<std::size_t>(cell) + i] = vol.imag() / h;
+            const std::size_t dof = 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3;
+            for (std::size_t p = 0; p < nl; ++p) {
+                if (active[p]) atomicAdd(g[p], dof, E * ds1[p][i] + s1[p] * dE);
+            }
             xc[i] = x[i];
-            atomicAdd(g, 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3, d);
         }
-        const double dm = cellProduct(xc, C(mean, h), nodes).imag() / h;
+        if (vol0 > 0 && o.sizeStiffening != 0) {
+            for (std::size_t p = 0; p < nl; ++p) {
+                const double d = s1[p] * E * o.sizeStiffening / mean;
 #pragma omp atomic
-        dMean += dm;
+                dMean[p] += d;
+            }
+        }
     });
-    if (dMean != 0 && o.sizeStiffening != 0) {
-        const double w = dMean / static_cast<double>(std::max(1L, cells));
-        forEachCellParallel(m, [&](const double* x, const int* nodes) {
-            C xc[24];
-            for (int i = 0; i < 24; ++i) xc[i] = x[i];
+    for (std::size_t p = 0; p < nl; ++p) {
+        if (dMean[p] == 0) continue;
+        const double w = dMean[p] / static_cast<double>(std::max(1L, cells));
+        forEachCellParallel(m, [&](const double*, const int* nodes, long cell) {
             for (int i = 0; i < 24; ++i) {
-                xc[i] += C(0.0, h);
-                C vol, q;
-                cellMetrics(xc, vol, q);
-                xc[i] = x[i];
-                atomicAdd(g, 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3, w * vol.imag() / h);
+                atomicAdd(g[p], 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3, w * dVol[24 * static_cast<std::size_t>(cell) + i]);
             }
         });
     }
@@ -582,28 +678,35 @@ std::vector<double> stiffnessProductGradient(const MultiBlockMesh& m, const Elas
 std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHistory& history,
                                            const ElasticityOptions& o, const std::vector<double>& gFinal,
                                            MeshAdjointReport* report) {
+    return moveControlGridAdjoints(m, history, o, {gFinal}, report).front();
+}
+
+std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m, const MoveHistory& history,
+                                                         const ElasticityOptions& o,
+                                                         const std::vector<std::vector<double>>& gFinals,
+                                                         MeshAdjointReport* report) {
     const auto t0 = std::chrono::steady_clock::now();
     MeshAdjointReport rep;
     const std::size_t ndof = m.control.size();
-    if (gFinal.size() != ndof) {
-        throw GeometryError("mesh adjoint: " + std::to_string(gFinal.size() / 3) + " gradient values for " +
-                            std::to_string(ndof / 3) + " control nodes");
-    }
-    const int increments = static_cast<int>(history.before.size());
-    std::vector<double> gA(3 * m.surfaceNode.size(), 0.0);
-    std::vector<double> gb = gFinal;
-    // The move ends by setting the wall nodes to A exactly: their final gradient goes to A.
-    for (std::size_t s = 0; s < m.surfaceNode.size(); ++s) {
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[s]) + c;
-            gA[3 * s + c] += gb[d];
-            gb[d] = 0;
+    for (const auto& gf : gFinals) {
+        if (gf.size() != ndof) {
+            throw GeometryError("mesh adjoint: " + std::to_string(gf.size() / 3) + " gradient values for " +
+                                std::to_string(ndof / 3) + " control nodes");
         }
     }
-    if (increments == 0) {
-        rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (report) *report = rep;
-        return gA;
+    const std::size_t nr = gFinals.size();
+    const int increments = static_cast<int>(history.before.size());
+    std::vector<std::vector<double>> gA(nr, std::vector<double>(3 * m.surfaceNode.size(), 0.0));
+    std::vector<std::vector<double>> gb = gFinals;
+    // The move ends by setting the wall nodes to A exactly: their final gradient goes to A.
+    for (std::size_t p = 0; p < nr; ++p) {
+        for (std::size_t s = 0; s < m.surfaceNode.size(); ++s) {
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[s]) + c;
+                gA[p][3 * s + c] += gb[p][d];
+                gb[p][d] = 0;
+            }
+        }
     }
     const std::vector<char> constrained = boundaryConstraints(m);
     MultiBlockMesh grid = m;  // structure; the control points of each increment from the history
@@ -613,39 +716,45 @@ std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHi
         const std::vector<double>& u = history.displacement[inc - 1];
         // b^(i) = b^(i-1) + u^(i): ubar = gb. u_f solves K_ff u_f = -K_fc u_c, so
         // K_ff lambda = ubar_f, the prescribed values get ubar_c - (K lambda)_c, and b^(i-1) gets
-        // -d(lambda^T K u)/db.
+        // -d(lambda^T K u)/db. One K and one factorization for all right-hand sides.
         FreeSystem s = assembleFree(grid, constrained, zero, o);
         if (s.invalidCell) {
             rep.converged = false;
             rep.message = "increment " + std::to_string(inc) + ": " + s.message;
             break;
         }
-        Eigen::VectorXd rhs(s.nfree);
-        for (std::size_t d = 0; d < ndof; ++d) {
-            if (s.freeIndex[d] >= 0) rhs[s.freeIndex[d]] = gb[d];
-        }
-        IncrementResult r;
-        const Eigen::VectorXd sol = solveFree(s.A, rhs, Eigen::VectorXd::Zero(s.nfree), o, r);
-        rep.iterations.push_back(r.iterations);
-        rep.directSolves += r.direct ? 1 : 0;
-        if (!r.converged) {
-            rep.converged = false;
-            rep.message = "increment " + std::to_string(inc) + ": " + r.message;
-            break;
-        }
-        std::vector<double> lambda(ndof, 0.0);
-        for (std::size_t d = 0; d < ndof; ++d) {
-            if (s.freeIndex[d] >= 0) lambda[d] = sol[s.freeIndex[d]];
-        }
-        const std::vector<double> Kl = stiffnessProduct(grid, o, lambda);
-        for (std::size_t sn = 0; sn < m.surfaceNode.size(); ++sn) {
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[sn]) + c;
-                gA[3 * sn + c] += (gb[d] - Kl[d]) / increments;  // the wall's prescribed u is (A - A0)/m
+        FreeSolver solver(s.A, o);
+        std::vector<std::vector<double>> lambdas(nr, std::vector<double>(ndof, 0.0));
+        for (std::size_t p = 0; p < nr && rep.converged; ++p) {
+            Eigen::VectorXd rhs(s.nfree);
+            for (std::size_t d = 0; d < ndof; ++d) {
+                if (s.freeIndex[d] >= 0) rhs[s.freeIndex[d]] = gb[p][d];
+            }
+            IncrementResult r;
+            const Eigen::VectorXd sol = solver.solve(rhs, Eigen::VectorXd::Zero(s.nfree), r);
+            rep.iterations.push_back(r.iterations);
+            rep.directSolves += r.direct ? 1 : 0;
+            if (!r.converged) {
+                rep.converged = false;
+                rep.message = "increment " + std::to_string(inc) + ": " + r.message;
+                break;
+            }
+            for (std::size_t d = 0; d < ndof; ++d) {
+                if (s.freeIndex[d] >= 0) lambdas[p][d] = sol[s.freeIndex[d]];
+            }
+            const std::vector<double> Kl = stiffnessProduct(grid, o, lambdas[p]);
+            for (std::size_t sn = 0; sn < m.surfaceNode.size(); ++sn) {
+                for (int c = 0; c < 3; ++c) {
+                    const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[sn]) + c;
+                    gA[p][3 * sn + c] += (gb[p][d] - Kl[d]) / increments;  // the wall's prescribed u is (A - A0)/m
+                }
             }
         }
-        const std::vector<double> gK = stiffnessProductGradient(grid, o, lambda, u);
-        for (std::size_t d = 0; d < ndof; ++d) gb[d] -= gK[d];
+        if (!rep.converged) break;
+        const std::vector<std::vector<double>> gK = stiffnessProductGradients(grid, o, lambdas, u);
+        for (std::size_t p = 0; p < nr; ++p) {
+            for (std::size_t d = 0; d < ndof; ++d) gb[p][d] -= gK[p][d];
+        }
     }
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (report) *report = rep;

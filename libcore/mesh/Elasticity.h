@@ -92,6 +92,10 @@ void hexStiffness(const T* x, T E, double nu, T* K);
 template <class T>
 T hexBilinear(const T* x, T E, double nu, const double* a, const double* b);
 
+/// a^T K b of unit modulus (E = 1) and its gradient with respect to the 24 corner coordinates x,
+/// analytic (d det J = det J G(n, r), dG = -G e_r G_n^T); returns a^T K b.
+double hexBilinearGradient(const double* x, double nu, const double* a, const double* b, double* grad);
+
 /// Solves one linear-elasticity problem on the current control grid: `prescribed` gives the
 /// displacement (3 per global node) of every constrained DOF (others are ignored and solved for).
 /// `constrained` flags the constrained DOFs (3 per node). Returns the displacement of all DOFs.
@@ -135,6 +139,10 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
 /// quantity, differentiated: d mean/db = (1/N) sum of the cells' d volume/db).
 std::vector<double> stiffnessProductGradient(const MultiBlockMesh& m, const ElasticityOptions& o,
                                              const std::vector<double>& lambda, const std::vector<double>& u);
+/// The same for several lambdas with one u (the derivatives of the moduli are shared).
+std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh& m, const ElasticityOptions& o,
+                                                           const std::vector<std::vector<double>>& lambdas,
+                                                           const std::vector<double>& u);
 
 /// K(b) v for the current control grid b of m over all DOFs (constrained ones included).
 std::vector<double> stiffnessProduct(const MultiBlockMesh& m, const ElasticityOptions& o, const std::vector<double>& v);
@@ -156,5 +164,10 @@ struct MeshAdjointReport {
 std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHistory& history,
                                            const ElasticityOptions& o, const std::vector<double>& gFinal,
                                            MeshAdjointReport* report = nullptr);
+/// The same for several functionals: each increment's K is assembled and factored once.
+std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m, const MoveHistory& history,
+                                                         const ElasticityOptions& o,
+                                                         const std::vector<std::vector<double>>& gFinals,
+                                                         MeshAdjointReport* report = nullptr);
 
 }  // namespace aero::mesh

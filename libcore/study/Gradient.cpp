@@ -112,20 +112,17 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         history = &still;
     }
     res.historyBytes = history->bytes();
-    std::vector<std::vector<double>> gA;
+    std::vector<std::vector<double>> gb(bases.size(), std::vector<double>(m.control.control.size(), 0.0));
     for (std::size_t p = 0; p < bases.size(); ++p) {
-        std::vector<double> gb(m.control.control.size(), 0.0);
         for (std::size_t b = 0; b < f.mesh.blocks.size(); ++b) {
-            mesh::regenerateTranspose(m.control, static_cast<int>(b), &gx[p][3 * f.mesh.blocks[b].offset], gb);
+            mesh::regenerateTranspose(m.control, static_cast<int>(b), &gx[p][3 * f.mesh.blocks[b].offset], gb[p]);
         }
-        mesh::MeshAdjointReport mr;
-        gA.push_back(mesh::moveControlGridAdjoint(m.control, *history, c.mesh.elasticity, gb, &mr));
-        res.meshAdjoints.push_back(mr);
-        if (!mr.converged) {
-            res.message = std::string("the mesh adjoint of ") + adjoint::functionalName(bases[p]) +
-                          " did not converge: " + mr.message;
-            return res;
-        }
+    }
+    const std::vector<std::vector<double>> gA =
+        mesh::moveControlGridAdjoints(m.control, *history, c.mesh.elasticity, gb, &res.meshAdjoint);
+    if (!res.meshAdjoint.converged) {
+        res.message = "the mesh adjoint did not converge: " + res.meshAdjoint.message;
+        return res;
     }
     res.secondsMesh = since(t);
     if (log) {

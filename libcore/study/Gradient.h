@@ -40,7 +40,7 @@ struct GradientResult {
     std::string message;  // the reason when not ok
     std::vector<FunctionalGradient> functionals;
     std::vector<adjoint::LinearSolveReport> adjoints;   // per base functional (CL, CD, ...)
-    std::vector<mesh::MeshAdjointReport> meshAdjoints;  // per base functional
+    mesh::MeshAdjointReport meshAdjoint;                // all base functionals at once
     double secondsLinearization = 0, secondsAdjoint = 0, secondsGrid = 0, secondsMesh = 0, secondsChain = 0;
     std::size_t historyBytes = 0;  // the forward move's stored increments
     double seconds() const {

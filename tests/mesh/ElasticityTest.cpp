@@ -317,6 +317,18 @@ TEST(MeshAdjoint, BilinearFormIsTheStiffnessMatrixProduct) {
         for (int c = 0; c < 24; ++c) ref += a[r] * K[24 * r + c] * b[c];
     }
     EXPECT_NEAR(hexBilinear<double>(x, 1.7, -0.2, a.data(), b.data()), ref, 1e-13 * std::abs(ref));
+    // Its analytic coordinate gradient against complex step.
+    x[5] += 0.07;  // a less regular cell
+    double grad[24];
+    const double s1 = hexBilinearGradient(x, -0.2, a.data(), b.data(), grad);
+    EXPECT_NEAR(s1, hexBilinear<double>(x, 1.0, -0.2, a.data(), b.data()), 1e-13 * std::abs(s1));
+    for (int i = 0; i < 24; ++i) {
+        std::complex<double> xc[24];
+        for (int k = 0; k < 24; ++k) xc[k] = x[k];
+        xc[i] += std::complex<double>(0, 1e-30);
+        const double cs = hexBilinear<std::complex<double>>(xc, 1.0, -0.2, a.data(), b.data()).imag() / 1e-30;
+        EXPECT_NEAR(grad[i], cs, 1e-12 * (std::abs(cs) + 1e-3)) << "coordinate " << i;
+    }
     // The orthogonality is a smooth minimum: eight equal corners give their value, one bad corner
     // pulls it within log(8)/20 of the minimum.
     const double cube[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
