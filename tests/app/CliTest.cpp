@@ -430,3 +430,45 @@ TEST(Cli, DirectoriesAndDevicesAreRefusedAsInputFiles) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("is a directory, not a restart file"), std::string::npos) << r.err;
 }
+
+// aeroform-cli gradient: J and dJ/dv of every variable by name, the quotient rule for CL/CD, the
+// stage times; gradient-check: the directional-derivative table with exit code 0 within the
+// tolerance and 1 outside it (at eps 0.1 the centred difference is far off), CSV and SVG written.
+// (The gradient's accuracy itself is tests/adjoint's.)
+TEST(Cli, GradientAndGradientCheck) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/bwb_flow.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["output"] = nlohmann::json::object();
+    const std::string path = tmp("gradient_case.json");
+    std::ofstream(path) << c.dump(1);
+    Result r = run("gradient '" + path + "' --json --csv '" + tmp("gradient.csv") + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["functionals"].size(), 3u);
+    EXPECT_EQ(j["functionals"][2]["name"], "CL/CD");
+    const auto& L = j["functionals"][0], &D = j["functionals"][1], &R = j["functionals"][2];
+    EXPECT_EQ(L["gradient"].size(), j["variables"].get<std::size_t>());
+    EXPECT_GT(j["variables"].get<int>(), 80);
+    const double cl = L["value"], cd = D["value"];
+    for (auto it = L["gradient"].begin(); it != L["gradient"].end(); ++it) {
+        const double dl = it.value(), dd = D["gradient"][it.key()], dr = R["gradient"][it.key()];
+        EXPECT_NEAR(dr, (dl * cd - cl * dd) / (cd * cd), 1e-12 * (std::abs(dr) + 1e-12)) << it.key();
+    }
+    EXPECT_GT(j["seconds"]["mesh_adjoint"].get<double>(), 0);
+    EXPECT_NE(r.err.find("flow adjoint of CD"), std::string::npos) << r.err;
+    EXPECT_NE(slurp(tmp("gradient.csv")).find("body.S1.tx,"), std::string::npos);
+    EXPECT_EQ(run("gradient '" + path + "' --functionals LD").code, 2);
+
+    const std::string csv = tmp("check.csv"), svg = tmp("check.svg");
+    r = run("gradient-check '" + path + "' --functional CL --eps-range 1e-6:1e-6 --tolerance 1e-5 --csv '" + csv +
+            "' --plot '" + svg + "'");
+    EXPECT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("all variables: best relative error"), std::string::npos) << r.out;
+    EXPECT_NE(slurp(csv).find("\"all variables\",9.99999"), std::string::npos) << slurp(csv);
+    EXPECT_NE(slurp(svg).find("<polyline"), std::string::npos);
+    r = run("gradient-check '" + path + "' --functional CL --eps-range 1e-1:1e-1");
+    EXPECT_EQ(r.code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("NOT within the tolerance"), std::string::npos) << r.out;
+    EXPECT_EQ(run("gradient-check '" + path + "' --eps-range 1e-8:1e-2").code, 2);
+}
