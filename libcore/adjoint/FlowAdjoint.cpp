@@ -33,6 +33,8 @@ FlowLinearization::FlowLinearization(const flow::FlowMesh& fm, const std::vector
     flow::assembleJacobian(fm, metrics, q.data(), o, J_);
     // The forward solver's preconditioner at a large CFL: the approximate (lumped, frozen)
     // Jacobian plus V/dt.
+    // (ILU of the exact Jacobian instead was tried on the blended wing at refine 0.5: ILU(0) does
+    // not converge in 3000 iterations, ILU(1) needs 160 iterations against 162 and is slower.)
     flow::ResidualOptions approx = o;
     approx.lumpedDissipation = true;
     approx.freezeCoefficients = true;

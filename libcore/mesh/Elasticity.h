@@ -57,14 +57,17 @@ template <class T>
 void cornerScaledJacobians(const T* x, T* corners);
 
 /// How sharply cellOrthogonality follows the worst corner.
-inline constexpr double kOrthogonalitySharpness = 20.0;
+inline constexpr double kOrthogonalitySharpness = 100.0;
 
 /// The cell's orthogonality: a smooth minimum of its corner scaled Jacobians q_a,
 ///   -(1/r) log((1/8) sum_a exp(-r q_a)),  r = kOrthogonalitySharpness,
-/// between the minimum and the mean (equal to q for eight equal corners, within log(8)/r = 0.10
+/// between the minimum and the mean (equal to q for eight equal corners, within log(8)/r = 0.021
 /// above the minimum). Not the minimum itself: on a structured grid several corners tie for the
 /// minimum, where the minimum has no derivative and the mesh adjoint would disagree with finite
-/// differences (by 2e-4 on the half-sphere's control grid).
+/// differences (by 2e-4 on the half-sphere's control grid). Why 100: at r = 20 and 50 one random
+/// design of the robustness suite (CaseEvaluatorTest) stalls, at 100 it converges as with the
+/// minimum - that design is borderline for the flow solver (issue #14), and the grids of r = 100
+/// are the closest to the minimum's.
 template <class T>
 T cellOrthogonality(const T* x);
 
