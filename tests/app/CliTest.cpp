@@ -461,11 +461,12 @@ TEST(Cli, GradientAndGradientCheck) {
     EXPECT_EQ(run("gradient '" + path + "' --functionals LD").code, 2);
 
     const std::string csv = tmp("check.csv"), svg = tmp("check.svg");
-    r = run("gradient-check '" + path + "' --functional CL --eps-range 1e-6:1e-6 --tolerance 1e-5 --csv '" + csv +
+    // Several steps: the response's kinks (the dissipation's switches) spoil some of them.
+    r = run("gradient-check '" + path + "' --functional CL --eps-range 1e-4:1e-8 --tolerance 1e-5 --csv '" + csv +
             "' --plot '" + svg + "'");
     EXPECT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("all variables: best relative error"), std::string::npos) << r.out;
-    EXPECT_NE(slurp(csv).find("\"all variables\",9.99999"), std::string::npos) << slurp(csv);
+    EXPECT_NE(slurp(csv).find("\"all variables\",1.0000000000000001e-05"), std::string::npos) << slurp(csv);
     EXPECT_NE(slurp(svg).find("<polyline"), std::string::npos);
     r = run("gradient-check '" + path + "' --functional CL --eps-range 1e-1:1e-1");
     EXPECT_EQ(r.code, 1) << r.out << r.err;
