@@ -3,9 +3,12 @@
 //  - the elasticity move of the control grid (m = 6) on the blended-wing deformation of
 //    samples/bwb_deform.json, at the paper level (13,546 control nodes) and the coarse level;
 //  - on the same deformation, node-based elasticity on the coarse grid itself (75,140 nodes):
-//    the paper's point is that the control-grid route costs a few percent of that.
+//    the paper's point is that the control-grid route costs a few percent of that;
+//  - the mesh adjoint (the move's increments in reverse, 1 and 2 functionals) and N^T.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "geometry/HalfSphere.h"
@@ -59,6 +62,47 @@ void BM_ControlGridMove(benchmark::State& state, const char* level) {
 }
 BENCHMARK_CAPTURE(BM_ControlGridMove, paper, "paper")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK_CAPTURE(BM_ControlGridMove, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// The mesh adjoint (issue #16): the move's six increments in reverse for `rhs` functionals at once,
+// on the moved control grid of the blended-wing deformation; compare with BM_ControlGridMove (the
+// forward move) in the same run.
+void BM_MeshAdjoint(benchmark::State& state, const char* level) {
+    const mesh::MultiBlockMesh base = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
+    mesh::MultiBlockMesh m = base;
+    mesh::MoveHistory history;
+    const mesh::MoveReport r = mesh::moveControlGrid(m, bwbSurface(), mesh::ElasticityOptions{}, {}, nullptr, &history);
+    const int rhs = static_cast<int>(state.range(0));
+    std::vector<std::vector<double>> g(rhs, std::vector<double>(m.control.size()));
+    for (int p = 0; p < rhs; ++p) {
+        for (std::size_t i = 0; i < g[p].size(); ++i) g[p][i] = std::sin(0.37 * static_cast<double>(i) + p);
+    }
+    mesh::MeshAdjointReport rep;
+    for (auto _ : state) {
+        const auto gA = mesh::moveControlGridAdjoints(m, history, mesh::ElasticityOptions{}, g, &rep);
+        benchmark::DoNotOptimize(gA.data());
+    }
+    int its = 0;
+    for (int i : rep.iterations) its += i;
+    state.counters["control_nodes"] = base.controlCount();
+    state.counters["cg_iterations"] = its;
+    state.counters["forward_cg_iterations"] = r.totalIterations;
+    state.counters["converged"] = rep.converged;
+}
+BENCHMARK_CAPTURE(BM_MeshAdjoint, coarse, "coarse")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// N^T (the regeneration's transpose, for the grid sensitivities) against N in the same run.
+void BM_RegenerateTranspose(benchmark::State& state, const char* level) {
+    const mesh::MultiBlockMesh m = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
+    const auto grids = mesh::regenerateAll(m);
+    std::vector<double> gb(m.control.size());
+    for (auto _ : state) {
+        std::fill(gb.begin(), gb.end(), 0.0);
+        for (std::size_t b = 0; b < m.blocks.size(); ++b) mesh::regenerateTranspose(m, static_cast<int>(b), grids[b].xyz.data(), gb);
+        benchmark::DoNotOptimize(gb.data());
+    }
+    state.SetItemsProcessed(state.iterations() * m.gridNodeCount());
+}
+BENCHMARK_CAPTURE(BM_RegenerateTranspose, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The grid itself as an elasticity mesh: every grid node a node, every grid cell a hexahedron,
 // coincident interface nodes merged; wall nodes follow the deformed surface.
