@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "common/Error.h"
+#include "common/Format.h"
 #include "io/VtkXml.h"
 #include "mesh/Extrusion.h"
 #include "mesh/Plot3d.h"
@@ -148,15 +149,6 @@ std::vector<long> rangeHistogram(const std::vector<mesh::CellQuality>& q, Qualit
 
 // ---- The work ---------------------------------------------------------------------------------
 
-namespace {
-
-std::string format(const char* fmt, auto... args) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, fmt, args...);
-    return buf;
-}
-
-}  // namespace
 
 MeshPreviewResult runMeshPreview(const MeshPreviewInput& in, const MeshPreviewProgress& progress,
                                  const std::atomic<bool>* cancel) {

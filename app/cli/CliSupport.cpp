@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <fstream>
+#include <sstream>
 
 #include "cad/Iges.h"
 #include "io/PatchSetJson.h"
@@ -39,6 +40,16 @@ void savePatchSet(const geometry::PatchSet& set, const std::string& path) { stud
 int usageError(const char* command, const std::string& why, const char* help) {
     std::cerr << "aeroform-cli " << command << ": " << why << "\n\n" << help;
     return kUsage;
+}
+
+std::vector<std::string> splitList(const std::string& list) {
+    std::vector<std::string> out;
+    std::stringstream in(list);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        if (!item.empty()) out.push_back(item);
+    }
+    return out;
 }
 
 bool parse(const Args& args, const std::set<std::string>& flags, const std::set<std::string>& valued,

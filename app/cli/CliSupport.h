@@ -33,6 +33,9 @@ bool parse(const Args& args, const std::set<std::string>& flags, const std::set<
 
 int usageError(const char* command, const std::string& why, const char* help);
 
+/// The non-empty items of a comma-separated list ("CL,CD," -> {"CL", "CD"}).
+std::vector<std::string> splitList(const std::string& list);
+
 /// Runs fn, turning libcore's exceptions into a message on stderr and exit code 1.
 template <class Fn>
 int guarded(const char* command, Fn&& fn) {

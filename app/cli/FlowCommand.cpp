@@ -297,10 +297,7 @@ int cmdFlow(const Args& args) {
     if (pos.size() != 1) return usageError("flow", "expected exactly one CASE file", kFlowHelp);
     std::vector<std::string> adjoints;
     if (val.count("--adjoint")) {
-        std::stringstream in(val["--adjoint"]);
-        std::string item;
-        while (std::getline(in, item, ',')) {
-            if (item.empty()) continue;
+        for (const std::string& item : splitList(val["--adjoint"])) {
             try {
                 (void)adjoint::functionalByName(item);
             } catch (const CaseError& e) {

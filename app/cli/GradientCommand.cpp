@@ -6,17 +6,15 @@
 // code 1 when the best agreement is worse than the tolerance.
 #include <algorithm>
 #include <chrono>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli/CliSupport.h"
 #include "common/AtomicFile.h"
+#include "common/Format.h"
 #include "common/Memory.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
@@ -62,35 +60,7 @@ const char* kCheckHelp =
     "  --json             the table as JSON on stdout\n"
     "Exit 0 when every check reaches the tolerance, 1 otherwise or on failure, 2 usage error.\n";
 
-// Writes text to path through a temporary file renamed over it (never half-written).
-void writeFileAtomically(const std::string& path, const std::string& text, const std::string& what = "output file") {
-    AtomicFile f(path, what);
-    {
-        std::ofstream out(f.temporary(), std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out) throw InputError("cannot write " + what + " '" + path + "': " + std::strerror(errno));
-    }
-    f.commit();
-}
-
 void say(const char* cmd, const std::string& s) { std::fprintf(stderr, "[%s] %s\n", cmd, s.c_str()); }
-
-std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double d = 0) {
-    char buf[512];
-    std::snprintf(buf, sizeof buf, f, a, b, c, d);
-    return buf;
-}
-
-std::vector<std::string> splitNames(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ',')) {
-        if (!item.empty()) out.push_back(item);
-    }
-    return out;
-}
 
 // Progress of one evaluation on stderr: the stage messages and every tenth flow iteration.
 study::ProgressFn evaluationProgress(const char* cmd, bool quiet) {
@@ -102,7 +72,7 @@ study::ProgressFn evaluationProgress(const char* cmd, bool quiet) {
         }
         const flow::FlowIteration& it = *p.iteration;
         if (it.rejected.empty() && (it.iteration % 10 == 0 || it.iteration <= 1)) {
-            say(cmd, fmt("flow iteration %.0f: relative residual %.3e, CFL %.3g, %.1f s", it.iteration, it.relativeResidual,
+            say(cmd, format("flow iteration %.0f: relative residual %.3e, CFL %.3g, %.1f s", it.iteration, it.relativeResidual,
                          it.cfl, it.seconds));
         }
     };
@@ -174,7 +144,7 @@ void writePlot(const std::string& path, const std::vector<std::string>& names,
         s << "<text x='" << W - R + 6 << "' y='" << T + 16 + 18 * k << "' fill='" << col << "'>" << names[k] << "</text>\n";
     }
     s << "</svg>\n";
-    writeFileAtomically(path, s.str());
+    writeTextAtomically(path, s.str(), "plot file");
 }
 
 }  // namespace
@@ -187,7 +157,7 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
         for (const std::string& n : names) study::checkGradientFunctional(n);
         study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), [&](const std::string& s) { say(cmd, s); });
         const study::Evaluation e = evaluateOrThrow(ev, ev.caseValues(), cmd, false, "the case's design");
-        say(cmd, fmt("flow converged: CL %.6f, CD %.6f, %.0f iterations, %.1f s", e.flow->forces.CL, e.flow->forces.CD,
+        say(cmd, format("flow converged: CL %.6f, CD %.6f, %.0f iterations, %.1f s", e.flow->forces.CL, e.flow->forces.CD,
                      e.flow->report.iterations, e.secondsFlow));
         study::GradientOptions o;
         o.functionals = names;
@@ -210,7 +180,7 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
             s << "alpha_deg," << c.flow.freeStream.alphaDeg;
             for (const auto& f : g.functionals) s << "," << f.dalpha;
             s << "\n";
-            writeFileAtomically(csvPath, s.str());
+            writeTextAtomically(csvPath, s.str(), "CSV file");
             say(cmd, "wrote " + csvPath);
         }
         if (json) {
@@ -273,7 +243,7 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
         c.outputFlowVtk.clear();
         c.outputResidualCsv.clear();
         c.outputRestart.clear();
-        say(cmd, fmt("flow solved to %.0e of the initial residual, mesh movement to %.0e", c.flow.newton.relativeTolerance,
+        say(cmd, format("flow solved to %.0e of the initial residual, mesh movement to %.0e", c.flow.newton.relativeTolerance,
                      c.mesh.elasticity.tolerance));
         const geometry::PatchSet geometry = study::loadGeometry(c.geometry);
         study::CaseEvaluator ev(c, geometry, [&](const std::string& s) { say(cmd, s); });
@@ -343,14 +313,14 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
                         io::CaseFile ca = c;
                         ca.flow.freeStream.alphaDeg += (side == 0 ? 1 : -1) * sAlpha * eps;
                         study::CaseEvaluator ea(ca, geometry);
-                        const study::Evaluation r = evaluateOrThrow(ea, v0, cmd, true, fmt("alpha %+.3e", (side == 0 ? 1 : -1) * eps));
+                        const study::Evaluation r = evaluateOrThrow(ea, v0, cmd, true, format("alpha %+.3e", (side == 0 ? 1 : -1) * eps));
                         (side == 0 ? jp : jm) = functionalOf(name, r.flow->forces);
                     }
                 } else {
                     for (int side = 0; side < 2; ++side) {
                         std::vector<double> w = v0;
                         for (std::size_t i = 0; i < n; ++i) w[i] += (side == 0 ? eps : -eps) * ck.z[i];
-                        const study::Evaluation r = evaluateOrThrow(ev, w, cmd, true, ck.label + fmt(" at eps %+.1e", side == 0 ? eps : -eps));
+                        const study::Evaluation r = evaluateOrThrow(ev, w, cmd, true, ck.label + format(" at eps %+.1e", side == 0 ? eps : -eps));
                         (side == 0 ? jp : jm) = functionalOf(name, r.flow->forces);
                     }
                 }
@@ -371,7 +341,7 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
             series.push_back(line);
         }
         if (!csvPath.empty()) {
-            writeFileAtomically(csvPath, csv.str());
+            writeTextAtomically(csvPath, csv.str(), "CSV file");
             say(cmd, "wrote " + csvPath);
         }
         if (!plotPath.empty()) {
@@ -403,7 +373,7 @@ int cmdGradient(const Args& args) {
     if (pos.size() != 1) return usageError("gradient", "expected exactly one CASE file", kGradientHelp);
     std::vector<std::string> names{"CL", "CD", "CL/CD"};
     if (val.count("--functionals")) {
-        names = splitNames(val["--functionals"]);
+        names = splitList(val["--functionals"]);
         if (names.empty()) return usageError("gradient", "--functionals needs at least one of CL, CD, CM, CY, CL/CD", kGradientHelp);
         try {
             for (const std::string& n : names) study::checkGradientFunctional(n);

@@ -62,10 +62,7 @@ void say(const std::string& s) { std::fprintf(stderr, "[sweep] %s\n", s.c_str())
 
 std::vector<double> parseList(const std::string& s, const std::string& what) {
     std::vector<double> out;
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ',')) {
-        if (item.empty()) continue;
+    for (const std::string& item : splitList(s)) {
         try {
             std::size_t used = 0;
             out.push_back(std::stod(item, &used));

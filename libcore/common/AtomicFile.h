@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <unistd.h>
@@ -59,5 +60,18 @@ private:
     std::string temporary_;
     bool committed_ = false;
 };
+
+/// Writes `text` to `path` through an AtomicFile (binary, so the bytes are exactly `text`).
+inline void writeTextAtomically(const std::string& path, const std::string& text, const std::string& what) {
+    AtomicFile file(path, what);
+    {
+        errno = 0;
+        std::ofstream out(file.temporary(), std::ios::binary | std::ios::trunc);
+        if (!out) file.fail();
+        out << text;
+        if (!out.flush()) file.fail();
+    }
+    file.commit();
+}
 
 }  // namespace aero

@@ -166,15 +166,7 @@ void writePatchSetJson(const geometry::PatchSet& set, const std::string& path) {
     const std::string text = formatPatchSetJson(set);
     // Write to a temporary file and rename: an existing file is never left half-written, and no
     // temporary file stays behind after a failure.
-    AtomicFile file(path, "patch-set file");
-    {
-        errno = 0;
-        std::ofstream out(file.temporary(), std::ios::binary | std::ios::trunc);
-        if (!out) file.fail();
-        out << text;
-        if (!out.flush()) file.fail();
-    }
-    file.commit();
+    writeTextAtomically(path, text, "patch-set file");
 }
 
 }  // namespace aero::io

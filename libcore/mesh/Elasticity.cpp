@@ -57,22 +57,43 @@ void forEachCell(const MultiBlockMesh& m, const ControlBlock& b, Fn&& fn) {
     }
 }
 
+// Gauss point q of the 2x2x2 rule: the shape-function derivatives dN (in xi), the Jacobian
+// J(r, c) = dx_r/dxi_c and its determinant.
+template <class T>
+T gaussJacobian(const T* x, int q, double dN[8][3], Eigen::Matrix<T, 3, 3>& J) {
+    const double g = 1.0 / std::sqrt(3.0);
+    shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
+    J.setZero();
+    for (int a = 0; a < 8; ++a) {
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) J(r, c) += x[3 * a + r] * dN[a][c];
+        }
+    }
+    return J.determinant();
+}
+
+// The same and the physical shape-function gradients G(a, c) = dN_a/dx_c; returns det J.
+template <class T>
+T gaussGradients(const T* x, int q, T G[8][3]) {
+    double dN[8][3];
+    Eigen::Matrix<T, 3, 3> J;
+    const T det = gaussJacobian(x, q, dN, J);
+    const Eigen::Matrix<T, 3, 3> Jinv = J.inverse();
+    for (int a = 0; a < 8; ++a) {
+        for (int c = 0; c < 3; ++c) G[a][c] = dN[a][0] * Jinv(0, c) + dN[a][1] * Jinv(1, c) + dN[a][2] * Jinv(2, c);
+    }
+    return det;
+}
+
 }  // namespace
 
 template <class T>
 void cellMetrics(const T* x, T& volume, T& minScaled) {
     volume = T(0.0);
-    const double g = 1.0 / std::sqrt(3.0);
     for (int q = 0; q < 8; ++q) {
         double dN[8][3];
-        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
-        Eigen::Matrix<T, 3, 3> J = Eigen::Matrix<T, 3, 3>::Zero();
-        for (int a = 0; a < 8; ++a) {
-            for (int r = 0; r < 3; ++r) {
-                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * a + r] * dN[a][c];
-            }
-        }
-        volume += J.determinant();
+        Eigen::Matrix<T, 3, 3> J;
+        volume += gaussJacobian(x, q, dN, J);
     }
     T corners[8];
     cornerScaledJacobians(x, corners);
@@ -116,31 +137,17 @@ template <class T>
 T hexBilinear(const T* x, T E, double nu, const double* a, const double* b) {
     const T lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
     const T mu = E / (2 * (1 + nu));
-    const double g = 1.0 / std::sqrt(3.0);
     T sum = T(0.0);
     for (int q = 0; q < 8; ++q) {
-        double dN[8][3];
-        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
-        Eigen::Matrix<T, 3, 3> J = Eigen::Matrix<T, 3, 3>::Zero();
-        for (int n = 0; n < 8; ++n) {
-            for (int r = 0; r < 3; ++r) {
-                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * n + r] * dN[n][c];
-            }
-        }
-        const T det = J.determinant();
-        const Eigen::Matrix<T, 3, 3> Jinv = J.inverse();
+        T G[8][3];
+        const T det = gaussGradients(x, q, G);
         // Displacement gradients A(i, c) = sum_n a_n,i dN_n/dx_c, and B alike.
         Eigen::Matrix<T, 3, 3> A = Eigen::Matrix<T, 3, 3>::Zero(), B = Eigen::Matrix<T, 3, 3>::Zero();
         for (int n = 0; n < 8; ++n) {
-            T G[3];
-            for (int c = 0; c < 3; ++c) {
-                G[c] = T(0.0);
-                for (int r = 0; r < 3; ++r) G[c] += dN[n][r] * Jinv(r, c);
-            }
             for (int i = 0; i < 3; ++i) {
                 for (int c = 0; c < 3; ++c) {
-                    A(i, c) += a[3 * n + i] * G[c];
-                    B(i, c) += b[3 * n + i] * G[c];
+                    A(i, c) += a[3 * n + i] * G[n][c];
+                    B(i, c) += b[3 * n + i] * G[n][c];
                 }
             }
         }
@@ -171,26 +178,9 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
     for (int i = 0; i < 24 * 24; ++i) K[i] = T(0.0);
     const T lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
     const T mu = E / (2 * (1 + nu));
-    const double g = 1.0 / std::sqrt(3.0);
     for (int q = 0; q < 8; ++q) {
-        double dN[8][3];
-        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
-        Eigen::Matrix<T, 3, 3> J = Eigen::Matrix<T, 3, 3>::Zero();
-        for (int a = 0; a < 8; ++a) {
-            for (int r = 0; r < 3; ++r) {
-                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * a + r] * dN[a][c];
-            }
-        }
-        const T det = J.determinant();
-        const Eigen::Matrix<T, 3, 3> Jinv = J.inverse();
-        // Physical gradients G(a, c) = dN_a / dx_c = sum_r dN_a/dxi_r (J^-1)(r, c).
-        T G[8][3];
-        for (int a = 0; a < 8; ++a) {
-            for (int c = 0; c < 3; ++c) {
-                G[a][c] = T(0.0);
-                for (int r = 0; r < 3; ++r) G[a][c] += dN[a][r] * Jinv(r, c);
-            }
-        }
+        T G[8][3];  // physical gradients G(a, c) = dN_a / dx_c
+        const T det = gaussGradients(x, q, G);
         // K_ab(i, j) += (lambda G_a,i G_b,j + mu G_a,j G_b,i + mu delta_ij G_a . G_b) det
         for (int a = 0; a < 8; ++a) {
             for (int b = 0; b < 8; ++b) {
@@ -214,24 +204,12 @@ double hexBilinearGradient(const double* x, double nu, const double* a, const do
     // P = lambda tr(B) A + mu (B A + B^T A), Q = lambda tr(A) B + mu (A B + A^T B).
     const double lambda = nu / ((1 + nu) * (1 - 2 * nu));
     const double mu = 1.0 / (2 * (1 + nu));
-    const double g = 1.0 / std::sqrt(3.0);
     double sum = 0;
     for (int i = 0; i < 24; ++i) grad[i] = 0;
     for (int q = 0; q < 8; ++q) {
-        double dN[8][3];
-        shapeDerivatives(g * kCorner[q][0], g * kCorner[q][1], g * kCorner[q][2], dN);
-        Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
-        for (int n = 0; n < 8; ++n) {
-            for (int r = 0; r < 3; ++r) {
-                for (int c = 0; c < 3; ++c) J(r, c) += x[3 * n + r] * dN[n][c];
-            }
-        }
-        const double det = J.determinant();
-        const Eigen::Matrix3d Jinv = J.inverse();
-        Eigen::Matrix<double, 8, 3> G;
-        for (int n = 0; n < 8; ++n) {
-            for (int c = 0; c < 3; ++c) G(n, c) = dN[n][0] * Jinv(0, c) + dN[n][1] * Jinv(1, c) + dN[n][2] * Jinv(2, c);
-        }
+        double g[8][3];
+        const double det = gaussGradients(x, q, g);
+        const Eigen::Map<const Eigen::Matrix<double, 8, 3, Eigen::RowMajor>> G(&g[0][0]);
         Eigen::Matrix3d A = Eigen::Matrix3d::Zero(), B = Eigen::Matrix3d::Zero();
         for (int n = 0; n < 8; ++n) {
             for (int i = 0; i < 3; ++i) {

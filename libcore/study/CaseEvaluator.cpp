@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "common/Error.h"
+#include "common/Format.h"
 #include "flow/Metrics.h"
 #include "flow/Residual.h"
 #include "io/FlowFiles.h"
@@ -35,12 +36,6 @@ bool sameWall(const mesh::MultiBlockMesh& m, const std::vector<double>& wall) {
 
 double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::string format(const char* fmt, auto... args) {
-    char buf[1024];
-    std::snprintf(buf, sizeof buf, fmt, args...);
-    return buf;
 }
 
 double tidy(double x) { return std::abs(x) < 1e-12 ? 0.0 : x; }

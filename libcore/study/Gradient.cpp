@@ -5,6 +5,7 @@
 
 #include "adjoint/GridSensitivity.h"
 #include "common/Error.h"
+#include "common/Format.h"
 #include "mesh/MultiBlock.h"
 
 namespace aero::study {
@@ -13,12 +14,6 @@ namespace {
 
 double since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-std::string fmt(const char* f, double a, double b = 0, double c = 0) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, f, a, b, c);
-    return buf;
 }
 
 constexpr const char* kRatio = "CL/CD";
@@ -72,7 +67,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     auto t = std::chrono::steady_clock::now();
     const adjoint::FlowLinearization lin(f.mesh, f.metrics, f.q, f.residualOptions, o.adjoint);
     res.secondsLinearization = since(t);
-    if (log) log(fmt("assembled the exact flow Jacobian and its preconditioner: %.1f s", res.secondsLinearization));
+    if (log) log(format("assembled the exact flow Jacobian and its preconditioner: %.1f s", res.secondsLinearization));
 
     t = std::chrono::steady_clock::now();
     std::vector<adjoint::AdjointSolution> adj;
@@ -81,7 +76,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         res.adjoints.push_back(adj.back().report);
         if (log) {
             log(std::string("flow adjoint of ") + adjoint::functionalName(b) +
-                fmt(": %.0f GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
+                format(": %.0f GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
                     adj.back().report.relativeResidual, adj.back().report.seconds));
         }
         if (!adj.back().report.converged()) {
@@ -98,7 +93,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     const std::vector<std::vector<double>> gx =
         adjoint::coordinateGradients(bases, psis, f.mesh, f.x, f.metrics, f.q, f.residualOptions, c.flow.reference);
     res.secondsGrid = since(t);
-    if (log) log(fmt("grid sensitivities (psi^T dR/dx + dJ/dx): %.1f s", res.secondsGrid));
+    if (log) log(format("grid sensitivities (psi^T dR/dx + dJ/dx): %.1f s", res.secondsGrid));
 
     // The forward move's increments (a shape whose wall is the baseline's was not moved: the
     // move's linearization is then m solves on the baseline grid with zero displacement).
@@ -126,7 +121,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     }
     res.secondsMesh = since(t);
     if (log) {
-        log(fmt("mesh adjoint: %.0f increments in reverse, %.1f s (%.1f MB of stored increments)",
+        log(format("mesh adjoint: %.0f increments in reverse, %.1f s (%.1f MB of stored increments)",
                 static_cast<double>(history->before.size()), res.secondsMesh, res.historyBytes / 1e6));
     }
 
