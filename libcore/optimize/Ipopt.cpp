@@ -1,0 +1,208 @@
+// Ipopt (interior point, Debian's coinor-libipopt-dev with MUMPS) behind optimize::Optimizer:
+// limited-memory quasi-Newton Hessian (the design problems give first derivatives only), the
+// linear rows passed as linear constraints, a failed evaluation reported as an evaluation error
+// (Ipopt then cuts its line-search step), and the common optimality measure as an extra stop test.
+#include <IpIpoptApplication.hpp>
+#include <IpTNLP.hpp>
+#include <cmath>
+#include <limits>
+
+#include "optimize/Optimizer.h"
+#include "optimize/Tracker.h"
+
+namespace aero::optimize {
+
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+constexpr double kInfinity = 1e19;  // Ipopt's default nlp_lower/upper_bound_inf magnitude
+
+double bound(double v) { return std::isinf(v) ? (v < 0 ? -kInfinity : kInfinity) : v; }
+
+class Nlp : public Ipopt::TNLP {
+public:
+    explicit Nlp(Tracker& t) : t_(t), p_(t.problem()) {}
+
+    bool get_nlp_info(Index& n, Index& m, Index& nnzJac, Index& nnzHess, IndexStyleEnum& style) override {
+        n = p_.size();
+        m = static_cast<Index>(p_.linear.size() + p_.nonlinear.size());
+        nnzJac = 0;
+        for (const LinearRow& r : p_.linear) nnzJac += static_cast<Index>(r.index.size());
+        nnzJac += static_cast<Index>(p_.nonlinear.size()) * n;
+        nnzHess = 0;
+        style = C_STYLE;
+        return true;
+    }
+
+    bool get_bounds_info(Index n, Number* xl, Number* xu, Index, Number* gl, Number* gu) override {
+        for (Index i = 0; i < n; ++i) {
+            xl[i] = bound(p_.lower[i]);
+            xu[i] = bound(p_.upper[i]);
+        }
+        Index k = 0;
+        for (const LinearRow& r : p_.linear) {
+            gl[k] = bound(r.lower);
+            gu[k++] = bound(r.upper);
+        }
+        for (const ConstraintSpec& c : p_.nonlinear) {
+            gl[k] = bound(c.lower);
+            gu[k++] = bound(c.upper);
+        }
+        return true;
+    }
+
+    bool get_constraints_linearity(Index m, LinearityType* types) override {
+        for (Index k = 0; k < m; ++k) {
+            types[k] = k < static_cast<Index>(p_.linear.size()) ? Ipopt::TNLP::LINEAR : Ipopt::TNLP::NON_LINEAR;
+        }
+        return true;
+    }
+
+    bool get_starting_point(Index n, bool initX, Number* x, bool initZ, Number*, Number*, Index, bool initLambda,
+                            Number*) override {
+        if (!initX || initZ || initLambda) return false;
+        for (Index i = 0; i < n; ++i) x[i] = p_.start[i];
+        return true;
+    }
+
+    bool eval_f(Index, const Number* x, bool, Number& f) override {
+        const Values* v = t_.values(x);
+        if (!v) return false;
+        f = v->objective;
+        return true;
+    }
+
+    bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+        const Gradients* d = t_.gradients(x);
+        if (!d) return false;
+        for (Index i = 0; i < n; ++i) g[i] = d->objective[i];
+        return true;
+    }
+
+    bool eval_g(Index n, const Number* x, bool, Index, Number* g) override {
+        Index k = 0;
+        const std::vector<double> xv(x, x + n);
+        for (const LinearRow& r : p_.linear) g[k++] = r.value(xv);
+        if (p_.nonlinear.empty()) return true;
+        const Values* v = t_.values(x);
+        if (!v) return false;
+        for (double c : v->constraints) g[k++] = c;
+        return true;
+    }
+
+    bool eval_jac_g(Index n, const Number* x, bool, Index, Index, Index* rows, Index* cols, Number* values) override {
+        Index e = 0;
+        if (!values) {
+            Index k = 0;
+            for (const LinearRow& r : p_.linear) {
+                for (int i : r.index) {
+                    rows[e] = k;
+                    cols[e++] = i;
+                }
+                ++k;
+            }
+            for (std::size_t c = 0; c < p_.nonlinear.size(); ++c, ++k) {
+                for (Index i = 0; i < n; ++i) {
+                    rows[e] = k;
+                    cols[e++] = i;
+                }
+            }
+            return true;
+        }
+        for (const LinearRow& r : p_.linear) {
+            for (double a : r.coefficient) values[e++] = a;
+        }
+        if (p_.nonlinear.empty()) return true;
+        const Gradients* d = t_.gradients(x);
+        if (!d) return false;
+        for (const auto& row : d->constraints) {
+            for (Index i = 0; i < n; ++i) values[e++] = row[i];
+        }
+        return true;
+    }
+
+    bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number, Number, Number, Number, Number, Number,
+                               Number, Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+        if (t_.stopped()) return false;
+        if (mode != Ipopt::RegularMode || t_.lastGradientPoint().empty()) return true;  // restoration: not an iterate
+        if (t_.iterate(iter, t_.lastGradientPoint().data())) {
+            converged_ = true;
+            return false;
+        }
+        return !t_.stopped();
+    }
+
+    void finalize_solution(Ipopt::SolverReturn status, Index, const Number*, const Number*, const Number*, Index,
+                           const Number*, const Number*, Number, const Ipopt::IpoptData*,
+                           Ipopt::IpoptCalculatedQuantities*) override {
+        status_ = status;
+    }
+
+    bool converged() const { return converged_; }
+    Ipopt::SolverReturn status() const { return status_; }
+
+private:
+    Tracker& t_;
+    const Problem& p_;
+    bool converged_ = false;
+    Ipopt::SolverReturn status_ = Ipopt::UNASSIGNED;
+};
+
+class IpoptOptimizer final : public Optimizer {
+public:
+    std::string name() const override { return "ipopt"; }
+
+    Result minimize(const Problem& p, const Settings& s) override {
+        p.check();
+        Tracker t(p, s);
+        Ipopt::SmartPtr<Nlp> nlp = new Nlp(t);
+        Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+        Ipopt::OptionsList& o = *app->Options();
+        o.SetStringValue("sb", "yes");  // no banner
+        o.SetIntegerValue("print_level", 0);
+        o.SetStringValue("hessian_approximation", "limited-memory");
+        o.SetStringValue("mu_strategy", "adaptive");
+        o.SetStringValue("nlp_scaling_method", "none");  // the caller scales its variables
+        o.SetNumericValue("tol", s.optimalityTolerance);
+        o.SetNumericValue("constr_viol_tol", s.feasibilityTolerance);
+        o.SetNumericValue("dual_inf_tol", s.optimalityTolerance);
+        o.SetIntegerValue("max_iter", s.maxIterations);
+        o.SetNumericValue("bound_relax_factor", 0.0);  // the bounds are the user's, exactly
+        if (app->Initialize() != Ipopt::Solve_Succeeded) return t.result(Status::Failed, "Ipopt could not start");
+        const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(nlp);
+        if (nlp->converged() || r == Ipopt::Solve_Succeeded) {
+            return t.result(Status::Converged, "optimality and feasibility within their tolerances");
+        }
+        if (t.stopped()) {
+            return t.result(t.stopStatus(), t.stopStatus() == Status::Cancelled ? "cancelled" : "the evaluation limit was reached");
+        }
+        switch (r) {
+            case Ipopt::Solved_To_Acceptable_Level:
+                return t.result(Status::Stalled, "Ipopt stopped at an acceptable point (its tolerances not reached)");
+            case Ipopt::Maximum_Iterations_Exceeded:
+                return t.result(Status::IterationLimit, "the iteration limit was reached");
+            case Ipopt::Infeasible_Problem_Detected:
+                return t.result(Status::Infeasible, "Ipopt converged to a point of locally minimal infeasibility");
+            case Ipopt::Search_Direction_Becomes_Too_Small:
+                return t.result(Status::Stalled, "the search direction became too small");
+            case Ipopt::Restoration_Failed:
+                return t.result(Status::Stalled, "Ipopt's feasibility restoration failed" +
+                                                     (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
+            case Ipopt::Invalid_Number_Detected:
+            case Ipopt::Error_In_Step_Computation:
+                return t.result(Status::Failed, "Ipopt could not continue" +
+                                                    (t.lastFailure().empty() ? std::string() : ": " + t.lastFailure()));
+            default:
+                return t.result(Status::Failed, "Ipopt stopped with status " + std::to_string(static_cast<int>(r)) +
+                                                    (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Optimizer> makeIpopt() { return std::make_unique<IpoptOptimizer>(); }
+
+}  // namespace aero::optimize

@@ -1,0 +1,182 @@
+// The optimizers behind optimize::Optimizer on problems with known solutions: Hock-Schittkowski
+// 71 (nonlinear equality and inequality, bounds), a linearly constrained quadratic, evaluations
+// that fail away from the last good point (both must cut back and still converge), the
+// evaluation limit and cancellation; and the common first-order optimality measure itself.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include "optimize/Optimizer.h"
+
+using namespace aero;
+using namespace aero::optimize;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// HS71: min x1 x4 (x1 + x2 + x3) + x3, x1 x2 x3 x4 >= 25, sum x^2 = 40, 1 <= x <= 5.
+Problem hs71() {
+    Problem p;
+    p.start = {1, 5, 5, 1};
+    p.lower.assign(4, 1.0);
+    p.upper.assign(4, 5.0);
+    p.nonlinear = {{"product", 25, kInf}, {"sphere", 40, 40}};
+    p.values = [](const std::vector<double>& x) {
+        Values v;
+        v.objective = x[0] * x[3] * (x[0] + x[1] + x[2]) + x[2];
+        v.constraints = {x[0] * x[1] * x[2] * x[3], x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3]};
+        return v;
+    };
+    p.gradients = [](const std::vector<double>& x) {
+        Gradients g;
+        g.objective = {x[3] * (2 * x[0] + x[1] + x[2]), x[0] * x[3], x[0] * x[3] + 1, x[0] * (x[0] + x[1] + x[2])};
+        g.constraints = {{x[1] * x[2] * x[3], x[0] * x[2] * x[3], x[0] * x[1] * x[3], x[0] * x[1] * x[2]},
+                         {2 * x[0], 2 * x[1], 2 * x[2], 2 * x[3]}};
+        return g;
+    };
+    return p;
+}
+
+// min sum (x_i - 3)^2 over [-5, 5]^2 from the origin, optionally with x + y <= 2 (then (1, 1)).
+Problem quadratic(bool linear) {
+    Problem p;
+    p.start = {0, 0};
+    p.lower = {-5, -5};
+    p.upper = {5, 5};
+    if (linear) p.linear.push_back({{0, 1}, {1.0, 1.0}, -kInf, 2.0, "sum"});
+    p.values = [](const std::vector<double>& x) {
+        Values v;
+        v.objective = (x[0] - 3) * (x[0] - 3) + (x[1] - 3) * (x[1] - 3);
+        return v;
+    };
+    p.gradients = [](const std::vector<double>& x) {
+        Gradients g;
+        g.objective = {2 * (x[0] - 3), 2 * (x[1] - 3)};
+        return g;
+    };
+    return p;
+}
+
+class Optimizers : public ::testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+TEST_P(Optimizers, SolveHockSchittkowski71) {
+    const Problem p = hs71();
+    Settings s;
+    s.optimalityTolerance = 1e-7;
+    s.feasibilityTolerance = 1e-9;
+    int reported = 0;
+    s.onIteration = [&](const Iteration& it) {
+        EXPECT_EQ(it.x.size(), 4u);
+        ++reported;
+    };
+    const Result r = makeOptimizer(GetParam())->minimize(p, s);
+    EXPECT_EQ(r.status, Status::Converged) << r.message;
+    EXPECT_NEAR(r.objective, 17.0140173, 1e-6);
+    const double expected[4] = {1.0, 4.7429994, 3.8211503, 1.3794082};
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(r.x[i], expected[i], 1e-5) << i;
+    EXPECT_LE(r.feasibility, 1e-9);
+    EXPECT_LE(r.optimality, 1e-7);
+    EXPECT_GT(reported, 2);
+    EXPECT_EQ(r.failedEvaluations, 0);
+    std::printf("%s: %d iterations, %d evaluations, %d gradients\n", GetParam().c_str(), r.iterations, r.evaluations,
+                r.gradients);
+}
+
+TEST_P(Optimizers, KeepLinearConstraints) {
+    const Result r = makeOptimizer(GetParam())->minimize(quadratic(true), Settings{});
+    EXPECT_EQ(r.status, Status::Converged) << r.message;
+    EXPECT_NEAR(r.x[0], 1.0, 1e-5);  // Ipopt's iterates stay inside: 1e-6 from the row at tolerance 1e-6
+    EXPECT_NEAR(r.x[1], 1.0, 1e-5);
+    EXPECT_NEAR(r.objective, 8.0, 1e-5);
+}
+
+// Every evaluation farther than 0.75 from the last successful one fails (as a flow that does not
+// converge on a shape too far from the last): the optimizers must cut back, not stop.
+TEST_P(Optimizers, SurviveFailedEvaluations) {
+    Problem p = quadratic(false);
+    auto last = std::make_shared<std::vector<double>>(p.start);
+    auto inner = p.values;
+    p.values = [inner, last](const std::vector<double>& x) {
+        if (std::max(std::abs(x[0] - (*last)[0]), std::abs(x[1] - (*last)[1])) > 0.75) {
+            Values v;
+            v.ok = false;
+            v.message = "too far from the last good point";
+            return v;
+        }
+        *last = x;
+        return inner(x);
+    };
+    const Result r = makeOptimizer(GetParam())->minimize(p, Settings{});
+    EXPECT_EQ(r.status, Status::Converged) << r.message;
+    EXPECT_NEAR(r.x[0], 3.0, 1e-5);
+    EXPECT_NEAR(r.x[1], 3.0, 1e-5);
+    EXPECT_GT(r.failedEvaluations, 0);
+    std::printf("%s: %d evaluations, %d failed\n", GetParam().c_str(), r.evaluations, r.failedEvaluations);
+}
+
+TEST_P(Optimizers, StopAtTheEvaluationLimitAndOnCancel) {
+    Settings s;
+    s.maxEvaluations = 3;
+    Result r = makeOptimizer(GetParam())->minimize(hs71(), s);
+    EXPECT_EQ(r.status, Status::EvaluationLimit) << r.message;
+    EXPECT_EQ(r.evaluations, 3);
+    std::atomic<bool> cancel{false};
+    Settings c;
+    c.cancel = &cancel;
+    c.onIteration = [&](const Iteration& it) {
+        if (it.iteration >= 2) cancel = true;
+    };
+    r = makeOptimizer(GetParam())->minimize(hs71(), c);
+    EXPECT_EQ(r.status, Status::Cancelled) << r.message;
+    EXPECT_LT(r.iterations, 6);
+}
+
+TEST_P(Optimizers, ReportAStartThatCannotBeEvaluated) {
+    Problem p = quadratic(false);
+    p.values = [](const std::vector<double>&) {
+        Values v;
+        v.ok = false;
+        v.message = "the flow did not converge";
+        return v;
+    };
+    const Result r = makeOptimizer(GetParam())->minimize(p, Settings{});
+    EXPECT_NE(r.status, Status::Converged);
+    EXPECT_GE(r.failedEvaluations, 1);
+    EXPECT_NE(r.message.find("the flow did not converge"), std::string::npos) << r.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(Both, Optimizers, ::testing::Values("ipopt", "slsqp"));
+
+TEST(Optimizer, UnknownNameListsTheChoices) {
+    try {
+        (void)makeOptimizer("snopt");
+        ADD_FAILURE();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("ipopt, slsqp"), std::string::npos) << e.what();
+    }
+}
+
+// The measure is zero at a constrained minimum (multipliers of the right sign), and not zero where
+// the only fitting multiplier has the wrong sign (the bound is active but the minimum is inside).
+TEST(FirstOrderOptimality, SeesTheSignOfTheMultipliers) {
+    const Problem p = quadratic(true);
+    auto at = [&](double x, double y) {
+        const std::vector<double> v{x, y};
+        return firstOrderOptimality(p, v, p.values(v), p.gradients(v), 1e-9);
+    };
+    EXPECT_NEAR(at(1, 1), 0.0, 1e-14);   // on x + y = 2 (upper side): df = (-4, -4) = -mu (1, 1), mu = 4
+    EXPECT_NEAR(at(3, 3) , 0.0, 1e-14);  // infeasible for the row, but the gradient vanishes
+    EXPECT_NEAR(at(0.5, 0.5), 5.0, 1e-12);  // inside: |df|_inf
+    Problem q = quadratic(false);
+    q.lower = {3.5, -5};  // x >= 3.5: at x = 3.5 the bound pushes the right way
+    const std::vector<double> v{3.5, 3.0};
+    EXPECT_NEAR(firstOrderOptimality(q, v, q.values(v), q.gradients(v), 1e-9), 0.0, 1e-14);
+    q.lower = {-5, -5};
+    q.upper = {3.5, 5};  // x <= 3.5 active at 3.5, but df_x = 1 > 0 wants x smaller: not a minimum
+    EXPECT_NEAR(firstOrderOptimality(q, v, q.values(v), q.gradients(v), 1e-9), 1.0, 1e-14);
+}
