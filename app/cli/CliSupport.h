@@ -67,6 +67,10 @@ int cmdFlow(const Args& args);
 int cmdSweep(const Args& args);
 int cmdGradient(const Args& args);
 int cmdGradientCheck(const Args& args);
+int cmdOptimize(const Args& args);
+/// The optimize command's work (also `aeroform --batch CASE` for cases with an "optimization"
+/// section: then resumed when its history exists).
+int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json, bool quiet);
 /// The deform command's work for a case file (also `aeroform --batch CASE`).
 int runDeform(const std::string& casePath, bool json, bool list);
 /// The mesh command's work (also `aeroform --batch CASE` for cases with a "mesh" section).

@@ -1,6 +1,7 @@
 #include "cli/Commands.h"
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include "geometry/HalfSphere.h"
 #include "geometry/Topology.h"
 #include "io/CaseFile.h"
+#include "study/Optimization.h"
 
 namespace aero::app {
 
@@ -205,6 +207,7 @@ const char* kMainHelp =
     "  sweep CASE [--random N]        the flow over the design space: scaled and random designs\n"
     "  gradient CASE [--json]         dJ/dv of CL, CD, CL/CD by the discrete adjoint, all variables\n"
     "  gradient-check CASE [--groups] the adjoint's directional derivative vs centred differences\n"
+    "  optimize CASE [--resume]       the case's optimization (Ipopt/SLSQP, adjoint gradients), resumable\n"
     "  fit GRID.xyz [--json]          fit B-spline volumes to your own Plot3D grid, report errors\n"
     "\n"
     "exit codes: 0 success, 1 the work failed (bad input, invalid geometry), 2 usage error\n";
@@ -242,6 +245,7 @@ int runCli(int argc, char** argv) {
     if (cmd == "sweep") return cmdSweep(args);
     if (cmd == "gradient") return cmdGradient(args);
     if (cmd == "gradient-check") return cmdGradientCheck(args);
+    if (cmd == "optimize") return cmdOptimize(args);
     std::cerr << "aeroform-cli: unknown command '" << cmd << "'\n\n" << kMainHelp;
     return kUsage;
 }
@@ -254,12 +258,15 @@ int runBatch(const std::string& path) {
         // section's grid), a mesh section the mesh level. A bad case is an error like in the CLI
         // (exit 1 with the message), not an uncaught exception.
         int stage = 0;
+        bool resumable = false;
         const int code = guarded("batch", [&] {
             const io::CaseFile c = io::readCase(path);
-            stage = c.flow.present ? 2 : (c.mesh.present ? 1 : 0);
+            stage = c.optimization.present ? 3 : (c.flow.present ? 2 : (c.mesh.present ? 1 : 0));
+            if (stage == 3) resumable = std::filesystem::exists(study::historyJsonlPath(c.optimization.history));
             return kOk;
         });
         if (code != kOk) return code;
+        if (stage == 3) return runOptimize(path, resumable, false, false, true);
         if (stage == 2) return runFlow(path, "", false);
         return stage == 1 ? runMesh(path, false) : runDeform(path, false, false);
     }

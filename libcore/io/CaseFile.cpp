@@ -177,7 +177,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     const Ctx ctx{path};
     ctx.keys(doc, "", {"format", "version", "description", "geometry", "lattices", "design_variables", "values",
-                       "displacements", "embedding", "constraints", "mesh", "flow", "output"});
+                       "displacements", "embedding", "constraints", "mesh", "flow", "optimization", "output"});
     if (!doc.contains("format") || !doc["format"].is_string() || doc["format"] != kFormat) {
         ctx.fail("format", std::string("expected \"") + kFormat + "\"");
     }
@@ -451,6 +451,28 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         fc.present = true;
         readOptions(ctx, j, "flow", flowOptions(), fc);
         if (j.contains("restart")) fc.restart = resolve(path, ctx.string(j["restart"], "flow.restart"));
+    }
+    if (doc.contains("optimization")) {
+        const json& j = doc["optimization"];
+        std::vector<std::string> allowed{"history", "iterations"};
+        for (const auto& o : optimizationOptions()) allowed.push_back(o.spec.key);
+        ctx.keys(j, "optimization", allowed);
+        OptimizationCase& oc = c.optimization;
+        oc.present = true;
+        readOptions(ctx, j, "optimization", optimizationOptions(), oc);
+        if (!c.flow.present) ctx.fail("optimization", "needs a \"flow\" section (the objective is a flow functional)");
+        if (oc.alphaLower >= oc.alphaUpper) ctx.fail("optimization.alpha_upper", "must be above alpha_lower");
+        if (oc.alphaVariable && !(c.flow.freeStream.alphaDeg >= oc.alphaLower && c.flow.freeStream.alphaDeg <= oc.alphaUpper)) {
+            ctx.fail("optimization.alpha_lower", "flow.alpha (the start) lies outside [alpha_lower, alpha_upper]");
+        }
+        if (j.contains("history")) {
+            oc.history = resolve(path, ctx.string(j["history"], "optimization.history"));
+            if (std::filesystem::path(oc.history).extension() != ".csv") ctx.fail("optimization.history", "must end in .csv");
+        } else {
+            const std::filesystem::path p(path);
+            oc.history = (p.parent_path() / (p.stem().string() + ".history.csv")).string();
+        }
+        if (j.contains("iterations")) oc.iterations = resolve(path, ctx.string(j["iterations"], "optimization.iterations"));
     }
     if (doc.contains("output")) {
         const json& o = doc["output"];

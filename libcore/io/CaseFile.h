@@ -64,6 +64,29 @@ struct FlowCase {
     bool gridSequencing = false;      // a cold start first solves on half the grid intervals
 };
 
+/// The design optimization (case key "optimization", Section IV.C of the paper): the objective, the
+/// optimizer and its limits; the constraints are the case's "constraints" (symmetry, station
+/// gaps, minimum volume) plus an optional lift target. Options in io::optimizationOptions().
+struct OptimizationCase {
+    bool present = false;
+    std::string objective = "CL/CD";   // a functional of the adjoint layer: CL, CD, CM, CY, CL/CD
+    bool maximize = true;              // "sense": maximize or minimize
+    double objectiveScale = 1;         // the optimizer sees scale * (+-J)
+    std::string optimizer = "ipopt";   // optimize::optimizerNames()
+    double optimalityTolerance = 1e-6;
+    double feasibilityTolerance = 1e-6;
+    int maxIterations = 50;
+    int maxEvaluations = 100;
+    bool alphaVariable = false;        // the angle of attack is a variable too (flow.alpha its start)
+    double alphaLower = -5, alphaUpper = 10;  // degrees
+    bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
+    double targetCL = 0;
+    std::string history;               // evaluation history (.csv; the .jsonl beside it is what
+                                       // --resume replays); resolved; default beside the case
+    std::string iterations;            // folder for each major iteration's shape (IGES, VTK);
+                                       // resolved; empty: none
+};
+
 struct CaseFile {
     std::string path;       // the case file itself
     std::string description;  // free text, kept when the GUI saves the case
@@ -88,6 +111,7 @@ struct CaseFile {
     std::string outputFlowVtk;                 // flow solution fields + wall Cp (.vtm)
     std::string outputResidualCsv;             // residual history (.csv)
     std::string outputRestart;                 // restart file written at the end (.restart)
+    OptimizationCase optimization;
 };
 
 /// Reads and validates a case file; throws InputError (file) or CaseError naming the key.

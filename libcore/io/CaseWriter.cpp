@@ -177,6 +177,15 @@ Json caseJson(const CaseFile& c) {
         if (!f.restart.empty()) j["restart"] = storedPath(f.restart, c.path);
         doc["flow"] = std::move(j);
     }
+    if (c.optimization.present) {
+        Json j = Json::object();
+        for (const auto& opt : optimizationOptions()) {
+            std::visit([&](const auto& v) { j[opt.spec.key] = v; }, opt.get(c.optimization));
+        }
+        if (!c.optimization.history.empty()) j["history"] = storedPath(c.optimization.history, c.path);
+        if (!c.optimization.iterations.empty()) j["iterations"] = storedPath(c.optimization.iterations, c.path);
+        doc["optimization"] = std::move(j);
+    }
     Json o = Json::object();
     if (!c.outputGeometry.empty()) o["geometry"] = storedPath(c.outputGeometry, c.path);
     if (!c.outputVtk.empty()) o["vtk"] = storedPath(c.outputVtk, c.path);

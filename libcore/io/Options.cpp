@@ -54,6 +54,18 @@ Option<S> boolean(const char* key, F field, const char* description) {
     return o;
 }
 
+template <class S, class F>
+Option<S> choice(const char* key, std::vector<std::string> choices, F field, const char* description) {
+    Option<S> o;
+    o.spec = {key, description, "", OptionKind::Choice, 0, 0, true, true, std::move(choices)};
+    o.get = [field](const S& c) {
+        S copy = c;
+        return OptionValue(std::string(field(copy)));
+    };
+    o.set = [field](S& c, const OptionValue& v) { field(c) = std::get<std::string>(v); };
+    return o;
+}
+
 }  // namespace
 
 std::string OptionSpec::range() const {
@@ -181,6 +193,51 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         o.push_back(boolean<FlowCase>("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
                             "a cold start first converges on half the grid intervals of the same analytic grid (exact "
                             "prolongation in the grid parameters), then on the case's grid"));
+        return o;
+    }();
+    return options;
+}
+
+const std::vector<Option<OptimizationCase>>& optimizationOptions() {
+    using O = OptimizationCase;
+    static const std::vector<Option<O>> options = [] {
+        std::vector<Option<O>> o;
+        o.push_back(choice<O>("objective", {"CL/CD", "CL", "CD", "CM", "CY"}, [](O& c) -> std::string& { return c.objective; },
+                              "the functional optimized (its exact gradient by the discrete adjoint)"));
+        {
+            Option<O> s;
+            s.spec = {"sense", "maximize or minimize the objective", "", OptionKind::Choice, 0, 0, true, true,
+                      {"maximize", "minimize"}};
+            s.get = [](const O& c) { return OptionValue(std::string(c.maximize ? "maximize" : "minimize")); };
+            s.set = [](O& c, const OptionValue& v) { c.maximize = std::get<std::string>(v) == "maximize"; };
+            o.push_back(std::move(s));
+        }
+        o.push_back(real<O>("objective_scale", "", 0, false, 1e12, false, [](O& c) -> double& { return c.objectiveScale; },
+                            "the optimizer sees this times the objective (a gradient of order one helps its first "
+                            "step)"));
+        o.push_back(choice<O>("optimizer", {"ipopt", "slsqp"}, [](O& c) -> std::string& { return c.optimizer; },
+                              "Ipopt (interior point, limited-memory Hessian) or NLopt's SLSQP; both stop on the same "
+                              "first-order optimality measure"));
+        o.push_back(real<O>("optimality_tolerance", "", 0, false, 1, false,
+                            [](O& c) -> double& { return c.optimalityTolerance; },
+                            "stop when the Lagrangian's gradient (in the scaled variables) is below this"));
+        o.push_back(real<O>("feasibility_tolerance", "", 0, false, 1, false,
+                            [](O& c) -> double& { return c.feasibilityTolerance; },
+                            "largest constraint violation of a converged design"));
+        o.push_back(integer<O>("max_iterations", 1, 10000, [](O& c) -> int& { return c.maxIterations; },
+                               "major iterations of the optimizer"));
+        o.push_back(integer<O>("max_evaluations", 1, 100000, [](O& c) -> int& { return c.maxEvaluations; },
+                               "function evaluations (flow solves), failed ones included"));
+        o.push_back(boolean<O>("alpha_variable", [](O& c) -> bool& { return c.alphaVariable; },
+                               "the angle of attack is a design variable too, starting from flow.alpha"));
+        o.push_back(real<O>("alpha_lower", "degrees", -90, false, 90, false, [](O& c) -> double& { return c.alphaLower; },
+                            "lower bound of the angle of attack when it is a variable"));
+        o.push_back(real<O>("alpha_upper", "degrees", -90, false, 90, false, [](O& c) -> double& { return c.alphaUpper; },
+                            "upper bound of the angle of attack when it is a variable"));
+        o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
+                               "keep CL equal to target_cl (with its exact gradient)"));
+        o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },
+                            "the lift coefficient kept when lift_constraint is true"));
         return o;
     }();
     return options;

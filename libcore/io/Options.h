@@ -51,6 +51,10 @@ const std::vector<Option<FlowCase>>& flowOptions();
 /// values; the keys after it override them). Defaults are the coarse level's.
 const std::vector<Option<MeshCase>>& meshOptions();
 
+/// The options of the case's "optimization" section (without the paths "history" and
+/// "iterations").
+const std::vector<Option<OptimizationCase>>& optimizationOptions();
+
 /// The option of `options` with this key; throws std::out_of_range for an unknown key (a
 /// programming error: keys are fixed by the tables).
 template <class S>

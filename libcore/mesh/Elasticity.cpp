@@ -516,8 +516,8 @@ std::size_t MoveHistory::bytes() const {
 namespace {
 
 // Calls fn(x, nodes, cell) for every control cell of every block (cell: a global cell number,
-// blocks one after the other), in parallel over the cells (fn must only write per-cell data, or
-// accumulate atomically). One parallel region for all blocks.
+// blocks one after the other), in parallel over the cells (fn must only write per-cell data:
+// see CellContributions). One parallel region for all blocks.
 template <class Fn>
 void forEachCellParallel(const MultiBlockMesh& m, Fn&& fn) {
     std::vector<long> first(m.blocks.size() + 1, 0);
@@ -558,25 +558,42 @@ double meanCellVolume(const MultiBlockMesh& m) {
     return total / std::max(1L, cellCount(m));
 }
 
-void atomicAdd(std::vector<double>& g, std::size_t i, double v) {
-#pragma omp atomic
-    g[i] += v;
-}
+// Per-cell contributions (24 per cell: 3 per corner) computed in parallel, then added to the
+// node values in cell order by one thread: the same sums in the same order on any number of
+// threads, so a gradient is reproducible bit for bit (atomic adds are not: an optimization resumed
+// from its history must follow the same path).
+struct CellContributions {
+    std::vector<int> nodes;     // 8 per cell
+    std::vector<double> value;  // 24 per cell
+    explicit CellContributions(long cells) : nodes(8 * static_cast<std::size_t>(cells)), value(24 * static_cast<std::size_t>(cells), 0.0) {}
+    void setNodes(long cell, const int* n) { std::copy(n, n + 8, nodes.begin() + 8 * cell); }
+    double* of(long cell) { return value.data() + 24 * cell; }
+    void addTo(std::vector<double>& g) const {
+        const std::size_t cells = nodes.size() / 8;
+        for (std::size_t c = 0; c < cells; ++c) {
+            for (int r = 0; r < 24; ++r) g[3 * static_cast<std::size_t>(nodes[8 * c + r / 3]) + r % 3] += value[24 * c + r];
+        }
+    }
+};
 
 }  // namespace
 
 std::vector<double> stiffnessProduct(const MultiBlockMesh& m, const ElasticityOptions& o, const std::vector<double>& v) {
     const double mean = meanCellVolume(m);
     std::vector<double> out(m.control.size(), 0.0);
-    forEachCellParallel(m, [&](const double* x, const int* nodes, long) {
+    CellContributions parts(cellCount(m));
+    forEachCellParallel(m, [&](const double* x, const int* nodes, long cell) {
         double K[24 * 24];
         hexStiffness<double>(x, cellModulus(x, mean, o), o.poisson, K);
+        parts.setNodes(cell, nodes);
+        double* part = parts.of(cell);
         for (int r = 0; r < 24; ++r) {
             double s = 0;
             for (int c = 0; c < 24; ++c) s += K[24 * r + c] * v[3 * static_cast<std::size_t>(nodes[c / 3]) + c % 3];
-            if (s != 0) atomicAdd(out, 3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3, s);
+            part[r] = s;
         }
     });
+    parts.addTo(out);
     return out;
 }
 
@@ -597,9 +614,11 @@ std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh&
     const double mean = meanCellVolume(m);
     const std::size_t nl = lambdas.size();
     std::vector<std::vector<double>> g(nl, std::vector<double>(m.control.size(), 0.0));
-    std::vector<double> dMean(nl, 0.0);
+    std::vector<double> dMeanOfCell(nl * static_cast<std::size_t>(cells), 0.0);
     std::vector<double> dVol(24 * static_cast<std::size_t>(cells), 0.0);
+    std::vector<CellContributions> parts(nl, CellContributions(cells));
     forEachCellParallel(m, [&](const double* x, const int* nodes, long cell) {
+        for (std::size_t p = 0; p < nl; ++p) parts[p].setNodes(cell, nodes);
         double ue[24];
         std::vector<std::array<double, 24>> le(nl);
         std::vector<char> active(nl, 0);
@@ -627,28 +646,29 @@ std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh&
             C vol, q;
             cellMetrics(xc, vol, q);
             dVol[24 * static_cast<std::size_t>(cell) + i] = vol.imag() / h;
-            const std::size_t dof = 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3;
             for (std::size_t p = 0; p < nl; ++p) {
-                if (active[p]) atomicAdd(g[p], dof, E * ds1[p][i] + s1[p] * dE);
+                if (active[p]) parts[p].of(cell)[i] = E * ds1[p][i] + s1[p] * dE;
             }
             xc[i] = x[i];
         }
         if (vol0 > 0 && o.sizeStiffening != 0) {
-            for (std::size_t p = 0; p < nl; ++p) {
-                const double d = s1[p] * E * o.sizeStiffening / mean;
-#pragma omp atomic
-                dMean[p] += d;
-            }
+            for (std::size_t p = 0; p < nl; ++p) dMeanOfCell[nl * cell + p] = s1[p] * E * o.sizeStiffening / mean;
         }
     });
+    std::vector<double> dMean(nl, 0.0);
+    for (std::size_t p = 0; p < nl; ++p) {
+        parts[p].addTo(g[p]);
+        for (long cell = 0; cell < cells; ++cell) dMean[p] += dMeanOfCell[nl * cell + p];
+    }
     for (std::size_t p = 0; p < nl; ++p) {
         if (dMean[p] == 0) continue;
         const double w = dMean[p] / static_cast<double>(std::max(1L, cells));
-        forEachCellParallel(m, [&](const double*, const int* nodes, long cell) {
+        const std::vector<int>& nodes = parts[p].nodes;
+        for (long cell = 0; cell < cells; ++cell) {
             for (int i = 0; i < 24; ++i) {
-                atomicAdd(g[p], 3 * static_cast<std::size_t>(nodes[i / 3]) + i % 3, w * dVol[24 * static_cast<std::size_t>(cell) + i]);
+                g[p][3 * static_cast<std::size_t>(nodes[8 * cell + i / 3]) + i % 3] += w * dVol[24 * static_cast<std::size_t>(cell) + i];
             }
-        });
+        }
     }
     return g;
 }

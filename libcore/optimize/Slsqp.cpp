@@ -21,6 +21,7 @@ constexpr int kMaxRestarts = 60;
 
 struct Run {
     Tracker& t;
+    std::vector<double>& lastIterate;  // the last point reported as an iteration (all runs)
     int iteration = 0;
     bool converged = false, failed = false, iterationLimit = false;
     std::vector<double> failedX{};
@@ -42,6 +43,8 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
         const Gradients* g = r.t.gradients(x);
         if (!g) fail(r, x, n);
         std::copy(g->objective.begin(), g->objective.end(), grad);
+        if (std::equal(x, x + n, r.lastIterate.begin(), r.lastIterate.end())) return v->objective;  // a restart's start
+        r.lastIterate.assign(x, x + n);
         if (r.t.iterate(++r.iteration, x)) {
             r.converged = true;
             throw nlopt::forced_stop();
@@ -112,8 +115,9 @@ public:
             x = centre;
         };
         int iterations = 0;
+        std::vector<double> lastIterate;
         for (int restart = 0;; ++restart) {
-            Run run{t};
+            Run run{t, lastIterate};
             run.iteration = iterations;
             nlopt::opt opt(nlopt::LD_SLSQP, n);
             opt.set_lower_bounds(lo);

@@ -50,8 +50,7 @@ const Values* Tracker::values(const double* x) {
     }
     if (!e.v.ok) {
         ++failures_;
-        lastFailure_ = e.v.message;
-        log("evaluation " + std::to_string(evaluations_) + " failed: " + e.v.message);
+        lastFailure_ = e.v.message;  // the caller's values function reports it
     } else {
         const double infeasible = feasibility(p_, e.x, e.v.constraints);
         const double tol = s_.feasibilityTolerance;
@@ -93,10 +92,7 @@ const Gradients* Tracker::gradients(const double* x) {
                 e->g.message = "a constraint gradient has the wrong size";
             }
         }
-        if (!e->g.ok) {
-            ++failures_;
-            log("gradient " + std::to_string(gradientCalls_) + " failed: " + e->g.message);
-        }
+        if (!e->g.ok) ++failures_;
     }
     if (!e->g.ok) {
         lastFailure_ = e->g.message;

@@ -276,6 +276,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     const flow::VolumeCheck vol = flow::checkVolumes(f->mesh, f->metrics);
     flow::ResidualOptions& ro = f->residualOptions;
     ro.freeStream = case_.flow.freeStream;
+    if (request.alphaDeg) ro.freeStream.alphaDeg = *request.alphaDeg;
     ro.dissipation = case_.flow.dissipation;
     ro.scheme = case_.flow.scheme;
     e.flow = f;

@@ -76,6 +76,7 @@ struct EvaluationRequest {
     std::optional<bool> sequencing;  // without a warm start: first solve on half the grid
                                      // intervals (unset: the case's flow.grid_sequencing)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
+    std::optional<double> alphaDeg;  // the angle of attack (unset: the case's flow.alpha)
     int worstCells = 10;     // how many of the worst cells the mesh quality summary locates
 };
 
@@ -169,6 +170,9 @@ public:
     /// The last converged flow state and its grid size (empty before the first).
     const std::vector<double>& lastConvergedState() const { return warm_; }
     void forgetWarmStart() { warm_.clear(); }
+    /// The state the next warm-started flow starts from (5 per node of the case's grid; another
+    /// size is ignored by evaluate): e.g. the state of a resumed optimization's last evaluation.
+    void setWarmStart(std::vector<double> q) { warm_ = std::move(q); }
 
 private:
     struct Baseline;

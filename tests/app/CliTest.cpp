@@ -1,6 +1,9 @@
 // End-to-end tests of aeroform-cli: exit codes, clean machine-readable stdout, clear errors.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -472,4 +475,93 @@ TEST(Cli, GradientAndGradientCheck) {
     EXPECT_EQ(r.code, 1) << r.out << r.err;
     EXPECT_NE(r.out.find("NOT within the tolerance"), std::string::npos) << r.out;
     EXPECT_EQ(run("gradient-check '" + path + "' --eps-range 1e-8:1e-2").code, 2);
+}
+
+namespace {
+
+// The history's records without their wall-clock times (everything else must match bit for bit:
+// JSON numbers round-trip doubles exactly).
+std::vector<nlohmann::json> historyRecords(const std::string& path) {
+    std::vector<nlohmann::json> records;
+    std::istringstream in(slurp(path));
+    std::string line;
+    while (std::getline(in, line)) {
+        if (in.eof()) break;  // no newline yet: a line being written
+        nlohmann::json j = nlohmann::json::parse(line);
+        j.erase("seconds");
+        records.push_back(j);
+    }
+    return records;
+}
+
+}  // namespace
+
+// Issue #17: a run killed at any moment (kill -9, mid-evaluation) and resumed replays what its
+// history holds without solving it again and reaches the same iterates, bit for bit, as an
+// uninterrupted run; an existing history is never overwritten without --fresh.
+TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/sphere_to_bwb.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["mesh"]["increments"] = 2;  // folds on some steps: failed evaluations are part of the path
+    c["optimization"]["max_iterations"] = 3;
+    c["output"] = nlohmann::json::object();
+    auto caseFor = [&](const std::string& name) {
+        c["optimization"]["history"] = tmp(name + "/history.csv");
+        c["optimization"]["iterations"] = tmp(name + "/iterations");
+        std::filesystem::remove_all(tmp(name));
+        const std::string path = tmp(name + ".json");
+        std::ofstream(path) << c.dump(1);
+        return path;
+    };
+    const std::string whole = caseFor("opt_whole"), killed = caseFor("opt_killed");
+    Result r = run("optimize '" + whole + "' --json --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json a = nlohmann::json::parse(r.out);
+    EXPECT_EQ(a["status"], "iteration limit");
+    EXPECT_GT(a["J"].get<double>(), 0.05);  // from 0.0016 at the sphere
+    EXPECT_GE(a["volume"].get<double>(), a["start_volume"].get<double>() * (1 - 1e-6));
+    EXPECT_TRUE(std::filesystem::exists(tmp("opt_whole/history_best.igs")));
+    EXPECT_TRUE(std::filesystem::exists(tmp("opt_whole/iterations/iteration_003.igs")));
+    EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find("values,1,ok,"), std::string::npos);
+    const auto wholeRecords = historyRecords(tmp("opt_whole/history.jsonl"));
+
+    // Killed in the middle of an evaluation after a few records, then resumed.
+    const std::string jsonl = tmp("opt_killed/history.jsonl");
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        const int devnull = ::open("/dev/null", O_WRONLY);
+        ::dup2(devnull, 1);
+        ::dup2(devnull, 2);
+        ::execl(AEROFORM_CLI, AEROFORM_CLI, "optimize", killed.c_str(), "--quiet", static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    const std::size_t cut = wholeRecords.size() / 2;
+    for (int wait = 0; wait < 6000 && historyRecords(jsonl).size() < cut; ++wait) ::usleep(20000);
+    ::usleep(300000);  // into the next evaluation
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const std::size_t before = historyRecords(jsonl).size();
+    ASSERT_GE(before, cut);
+    ASSERT_LT(before, wholeRecords.size()) << "the run finished before it was killed";
+
+    r = run("optimize '" + killed + "' --json --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;  // nothing overwritten
+    EXPECT_EQ(historyRecords(jsonl).size(), before);
+
+    r = run("optimize '" + killed + "' --resume --json --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json b = nlohmann::json::parse(r.out);
+    EXPECT_GT(b["replayed_evaluations"].get<int>(), 0);
+    EXPECT_EQ(b["x"], a["x"]);
+    EXPECT_EQ(b["J"], a["J"]);
+    const auto resumedRecords = historyRecords(jsonl);
+    ASSERT_EQ(resumedRecords.size(), wholeRecords.size());
+    for (std::size_t i = 0; i < wholeRecords.size(); ++i) EXPECT_EQ(resumedRecords[i], wholeRecords[i]) << "record " << i;
+
+    r = run("optimize '" + killed + "' --fresh --resume");
+    EXPECT_EQ(r.code, 2);
 }

@@ -1,0 +1,166 @@
+// aeroform-cli optimize CASE: the case's "optimization" section (study/Optimization.h): progress
+// per evaluation and per major iteration on stderr, the history appended as it happens, the best
+// shape as exact IGES, a JSON summary on stdout with --json. Ctrl+C (SIGINT) or SIGTERM stops at
+// the next flow iteration; --resume continues the history (what it holds is replayed, not solved
+// again) and reaches the iterates an uninterrupted run reaches.
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "cli/CliSupport.h"
+#include "common/Format.h"
+#include "common/Memory.h"
+#include "study/CaseEvaluator.h"
+#include "study/GeometryFiles.h"
+#include "study/Optimization.h"
+
+namespace aero::app {
+
+namespace {
+
+const char* kHelp =
+    "usage: aeroform-cli optimize CASE.json [--resume | --fresh] [--json] [--quiet]\n"
+    "\n"
+    "Runs the case's \"optimization\" section: the objective (a flow functional) over the design\n"
+    "variables (and alpha) with the case's constraints, by Ipopt or SLSQP with exact adjoint\n"
+    "gradients. Every evaluation is appended to the history as it happens (optimization.history:\n"
+    "CSV, with the exact JSON-lines record beside it); each major iteration's shape is written to\n"
+    "optimization.iterations when given, the best shape as IGES beside the history.\n"
+    "\n"
+    "  --resume  continue the history: the evaluations it holds are replayed to the optimizer, not\n"
+    "            solved again, so a run killed at any moment goes on where it stopped\n"
+    "  --fresh   start over, replacing an existing history (without either, an existing history is\n"
+    "            an error: nothing is overwritten)\n"
+    "  --json    a summary as JSON on stdout at the end\n"
+    "  --quiet   no flow iterations on stderr (evaluations and iterations are still shown)\n"
+    "  --help    this text\n"
+    "Ctrl+C stops at the next flow iteration (the history is kept: --resume continues it).\n"
+    "Exit 0 when the optimizer converged or reached its iteration or evaluation limit, 1 when it\n"
+    "failed, stalled, found no feasible design or was stopped, 2 usage error.\n";
+
+std::atomic<bool> gCancel{false};
+extern "C" void onOptimizeSignal(int) { gCancel.store(true); }
+
+void say(const std::string& s) { std::fprintf(stderr, "[optimize] %s\n", s.c_str()); }
+
+}  // namespace
+
+int cmdOptimize(const Args& args) {
+    if (hasFlag(args, "--help") || hasFlag(args, "-h")) {
+        std::printf("%s", kHelp);
+        return kOk;
+    }
+    std::vector<std::string> pos;
+    std::map<std::string, std::string> val;
+    std::string err;
+    if (!parse(args, {"--resume", "--fresh", "--json", "--quiet"}, {}, pos, val, err)) return usageError("optimize", err, kHelp);
+    if (pos.size() != 1) return usageError("optimize", "expected exactly one case file", kHelp);
+    if (hasFlag(args, "--resume") && hasFlag(args, "--fresh")) return usageError("optimize", "--resume and --fresh exclude each other", kHelp);
+    return runOptimize(pos[0], hasFlag(args, "--resume"), hasFlag(args, "--fresh"), hasFlag(args, "--json"),
+                       hasFlag(args, "--quiet"));
+}
+
+int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json, bool quiet) {
+    return guarded("optimize", [&] {
+        const io::CaseFile c = io::readCase(casePath);
+        if (!c.optimization.present) throw CaseError("'" + casePath + "': the case has no \"optimization\" section");
+        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), say);
+        study::OptimizationOptions o;
+        o.resume = resume;
+        o.fresh = fresh;
+        o.cancel = &gCancel;
+        o.log = say;
+        o.progress = [quiet](const study::Progress& p) {
+            if (quiet || !p.iteration) return;
+            const flow::FlowIteration& it = *p.iteration;
+            if (it.rejected.empty() && it.iteration % 10 == 0) {
+                say(format("  flow iteration %.0f%s: relative residual %.2e, %.1f s", static_cast<double>(it.iteration),
+                           p.coarse ? " (coarse)" : "", it.relativeResidual, it.seconds));
+            }
+        };
+        o.onRecord = [&](const study::OptimizationRecord& r) {
+            const char* tag = r.replayed ? " [replayed]" : "";
+            if (r.kind == study::OptimizationRecord::Kind::Values) {
+                if (r.ok) {
+                    say(format("evaluation %.0f: %s %.8g, CL %.6f, CD %.6f, volume %.6f, alpha %.4g, %.0f flow iterations%s, "
+                               "%.1f s%s",
+                               static_cast<double>(r.index), c.optimization.objective.c_str(), r.J, r.CL, r.CD, r.volume,
+                               r.alphaDeg, static_cast<double>(r.flowIterations), r.warmFrom ? " (warm)" : "", r.seconds, tag));
+                } else {
+                    say(format("evaluation %.0f failed (%s): %s%s", static_cast<double>(r.index), r.status.c_str(),
+                               r.message.c_str(), tag));
+                }
+            } else if (r.kind == study::OptimizationRecord::Kind::Gradient) {
+                say(format("gradient %.0f: %s%.0f adjoint GMRES iterations, %.1f s%s", static_cast<double>(r.index),
+                           r.ok ? "" : ("failed: " + r.message + "; ").c_str(), static_cast<double>(r.adjointIterations),
+                           r.seconds, tag));
+            }
+        };
+        gCancel.store(false);
+        auto oldInt = std::signal(SIGINT, onOptimizeSignal);
+        auto oldTerm = std::signal(SIGTERM, onOptimizeSignal);
+        const study::OptimizationSummary s = study::optimizeCase(ev, o);
+        std::signal(SIGINT, oldInt);
+        std::signal(SIGTERM, oldTerm);
+        const optimize::Result& r = s.result;
+        say(format("%s after %.0f iterations, %.0f evaluations (%.0f failed), %.0f gradients: %s", optimize::statusName(r.status),
+                   static_cast<double>(r.iterations), static_cast<double>(r.evaluations),
+                   static_cast<double>(r.failedEvaluations), static_cast<double>(r.gradients), r.message.c_str()));
+        say(format("best: %s %.8g, CL %.6f, CD %.6f, volume %.6f (start %.6f), optimality %.2e, feasibility %.2e",
+                   c.optimization.objective.c_str(), s.J, s.forces.CL, s.forces.CD, s.volume, s.startVolume, r.optimality,
+                   r.feasibility));
+        if (s.replayedEvaluations > 0) {
+            say(format("replayed from the history: %.0f evaluations, %.0f gradients", static_cast<double>(s.replayedEvaluations),
+                       static_cast<double>(s.replayedGradients)));
+        }
+        if (s.warmStarts > 0) {
+            say(format("warm starts: %.0f evaluations, %.1f flow iterations on average (the cold start took %.0f)",
+                       static_cast<double>(s.warmStarts), s.meanWarmFlowIterations, static_cast<double>(s.coldFlowIterations)));
+        }
+        say("history: " + s.historyCsv + ", " + s.iterationsCsv + " (exact records: " + s.historyJsonl + ")");
+        say("best shape: " + s.finalGeometry + (c.outputGeometry.empty() ? "" : " and " + c.outputGeometry));
+        say(format("%.1f s, peak memory %.0f MB", s.seconds, peakMemoryMb()));
+        if (r.status == optimize::Status::Cancelled) say("stopped; continue with: aeroform-cli optimize " + casePath + " --resume");
+        if (json) {
+            nlohmann::ordered_json j;
+            j["case"] = casePath;
+            j["status"] = optimize::statusName(r.status);
+            j["message"] = r.message;
+            j["objective"] = c.optimization.objective;
+            j["J"] = s.J;
+            j["CL"] = s.forces.CL;
+            j["CD"] = s.forces.CD;
+            j["CM"] = s.forces.CM;
+            j["volume"] = s.volume;
+            j["start_volume"] = s.startVolume;
+            j["alpha_deg"] = s.alphaDeg;
+            j["optimality"] = std::isfinite(r.optimality) ? nlohmann::ordered_json(r.optimality) : nlohmann::ordered_json(nullptr);
+            j["feasibility"] = r.feasibility;
+            j["iterations"] = r.iterations;
+            j["evaluations"] = r.evaluations;
+            j["failed_evaluations"] = r.failedEvaluations;
+            j["gradients"] = r.gradients;
+            j["replayed_evaluations"] = s.replayedEvaluations;
+            j["replayed_gradients"] = s.replayedGradients;
+            j["cold_flow_iterations"] = s.coldFlowIterations;
+            j["mean_warm_flow_iterations"] = s.meanWarmFlowIterations;
+            j["seconds"] = s.seconds;
+            j["history"] = s.historyCsv;
+            j["best_geometry"] = s.finalGeometry;
+            nlohmann::ordered_json x = nlohmann::ordered_json::object();
+            for (std::size_t i = 0; i < s.names.size(); ++i) x[s.names[i]] = i < s.values.size() ? s.values[i] : s.alphaDeg;
+            j["design"] = x;
+            nlohmann::ordered_json raw = nlohmann::ordered_json::array();
+            for (double u : r.x) raw.push_back(u);
+            j["x"] = raw;  // the optimizer's scaled variables, exact
+            std::printf("%s\n", j.dump(2).c_str());
+        }
+        const bool good = r.status == optimize::Status::Converged || r.status == optimize::Status::IterationLimit ||
+                          r.status == optimize::Status::EvaluationLimit;
+        return good ? kOk : kFailed;
+    });
+}
+
+}  // namespace aero::app

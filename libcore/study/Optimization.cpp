@@ -1,0 +1,730 @@
+#include "study/Optimization.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/AtomicFile.h"
+#include "common/Error.h"
+#include "common/Format.h"
+#include "io/GeometryVtk.h"
+#include "io/VtkXml.h"
+#include "study/GeometryFiles.h"
+#include "study/Gradient.h"
+
+namespace aero::study {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using Kind = OptimizationRecord::Kind;
+
+namespace {
+
+constexpr double kAlphaScale = 10.0;  // degrees per unit of the optimizer's alpha variable
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// JSON numbers round-trip doubles exactly (shortest representation); NaN and infinities become
+// null and come back as NaN.
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+double number(const Json& j) { return j.is_number() ? j.get<double>() : kNaN; }
+Json numbers(const std::vector<double>& v) {
+    Json a = Json::array();
+    for (double x : v) a.push_back(number(x));
+    return a;
+}
+std::vector<double> numbers(const Json& j) {
+    std::vector<double> v;
+    for (const Json& x : j) v.push_back(number(x));
+    return v;
+}
+
+Kind kindByName(const std::string& s, const std::string& where) {
+    for (Kind k : {Kind::Header, Kind::Values, Kind::Gradient, Kind::Iteration}) {
+        if (s == recordKindName(k)) return k;
+    }
+    throw InputError(where + ": unknown record kind '" + s + "'");
+}
+
+Json toJson(const OptimizationRecord& r) {
+    Json j;
+    j["kind"] = recordKindName(r.kind);
+    switch (r.kind) {
+        case Kind::Header:
+            j["optimizer"] = r.optimizer;
+            j["objective"] = r.objectiveName;
+            j["variables"] = r.names;
+            break;
+        case Kind::Values:
+            j["evaluation"] = r.index;
+            j["x"] = numbers(r.x);
+            j["ok"] = r.ok;
+            j["status"] = r.status;
+            if (!r.message.empty()) j["message"] = r.message;
+            j["objective"] = number(r.objective);
+            j["constraints"] = numbers(r.constraints);
+            j["J"] = number(r.J);
+            j["CL"] = number(r.CL);
+            j["CD"] = number(r.CD);
+            j["CM"] = number(r.CM);
+            j["volume"] = number(r.volume);
+            j["alpha"] = number(r.alphaDeg);
+            j["flow_iterations"] = r.flowIterations;
+            j["warm_from"] = r.warmFrom;
+            j["seconds"] = number(r.seconds);
+            break;
+        case Kind::Gradient: {
+            j["gradient"] = r.index;
+            j["x"] = numbers(r.x);
+            j["ok"] = r.ok;
+            if (!r.message.empty()) j["message"] = r.message;
+            j["d_objective"] = numbers(r.dObjective);
+            Json dc = Json::array();
+            for (const auto& row : r.dConstraints) dc.push_back(numbers(row));
+            j["d_constraints"] = dc;
+            j["adjoint_iterations"] = r.adjointIterations;
+            j["seconds"] = number(r.seconds);
+            break;
+        }
+        case Kind::Iteration:
+            j["iteration"] = r.index;
+            j["evaluations"] = r.evaluations;
+            j["gradients"] = r.gradients;
+            j["objective"] = number(r.objective);
+            j["optimality"] = number(r.optimality);
+            j["feasibility"] = number(r.feasibility);
+            j["x"] = numbers(r.x);
+            break;
+    }
+    return j;
+}
+
+OptimizationRecord fromJson(const Json& j, const std::string& where) {
+    OptimizationRecord r;
+    r.kind = kindByName(j.at("kind").get<std::string>(), where);
+    switch (r.kind) {
+        case Kind::Header:
+            r.optimizer = j.at("optimizer").get<std::string>();
+            r.objectiveName = j.at("objective").get<std::string>();
+            r.names = j.at("variables").get<std::vector<std::string>>();
+            break;
+        case Kind::Values:
+            r.index = j.at("evaluation").get<int>();
+            r.x = numbers(j.at("x"));
+            r.ok = j.at("ok").get<bool>();
+            r.status = j.at("status").get<std::string>();
+            if (j.contains("message")) r.message = j["message"].get<std::string>();
+            r.objective = number(j.at("objective"));
+            r.constraints = numbers(j.at("constraints"));
+            r.J = number(j.at("J"));
+            r.CL = number(j.at("CL"));
+            r.CD = number(j.at("CD"));
+            r.CM = number(j.at("CM"));
+            r.volume = number(j.at("volume"));
+            r.alphaDeg = number(j.at("alpha"));
+            r.flowIterations = j.at("flow_iterations").get<int>();
+            r.warmFrom = j.at("warm_from").get<int>();
+            r.seconds = number(j.at("seconds"));
+            break;
+        case Kind::Gradient:
+            r.index = j.at("gradient").get<int>();
+            r.x = numbers(j.at("x"));
+            r.ok = j.at("ok").get<bool>();
+            if (j.contains("message")) r.message = j["message"].get<std::string>();
+            r.dObjective = numbers(j.at("d_objective"));
+            for (const Json& row : j.at("d_constraints")) r.dConstraints.push_back(numbers(row));
+            r.adjointIterations = j.at("adjoint_iterations").get<int>();
+            r.seconds = number(j.at("seconds"));
+            break;
+        case Kind::Iteration:
+            r.index = j.at("iteration").get<int>();
+            r.evaluations = j.at("evaluations").get<int>();
+            r.gradients = j.at("gradients").get<int>();
+            r.objective = number(j.at("objective"));
+            r.optimality = number(j.at("optimality"));
+            r.feasibility = number(j.at("feasibility"));
+            r.x = numbers(j.at("x"));
+            break;
+    }
+    return r;
+}
+
+// Appends one line and makes it durable before returning (a record is either whole on disk or,
+// cut by a kill, an incomplete last line that readHistory drops).
+void appendLine(const std::string& path, const std::string& line, const char* what) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0) throw InputError(std::string("cannot write ") + what + " '" + path + "': " + std::strerror(errno));
+    const std::string text = line + "\n";
+    std::size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            const int e = errno;
+            ::close(fd);
+            throw InputError(std::string("cannot write ") + what + " '" + path + "': " + std::strerror(e));
+        }
+        done += static_cast<std::size_t>(w);
+    }
+    ::fsync(fd);
+    ::close(fd);
+}
+
+bool sameBits(const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// Flow states kept for warm starts: raw doubles behind a count.
+void writeState(const std::string& path, const std::vector<double>& q) {
+    std::string bytes(sizeof(std::uint64_t) + q.size() * sizeof(double), '\0');
+    const std::uint64_t n = q.size();
+    std::memcpy(bytes.data(), &n, sizeof n);
+    std::memcpy(bytes.data() + sizeof n, q.data(), q.size() * sizeof(double));
+    writeTextAtomically(path, bytes, "flow state");
+}
+
+std::vector<double> readState(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::uint64_t n = 0;
+    if (!in.read(reinterpret_cast<char*>(&n), sizeof n) || n > (1ull << 32)) return {};
+    std::vector<double> q(n);
+    if (!in.read(reinterpret_cast<char*>(q.data()), static_cast<std::streamsize>(n * sizeof(double)))) return {};
+    return q;
+}
+
+std::string csvText(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char ch : s) {
+        if (ch == '"') out += '"';
+        out += ch == '\n' ? ' ' : ch;
+    }
+    return out + "\"";
+}
+
+std::string csvNumber(double v) { return std::isfinite(v) ? format("%.17g", v) : std::string(); }
+
+// The two CSV views of the history, rebuilt from the records on resume and appended as they come.
+class CsvHistory {
+public:
+    CsvHistory(std::string evaluations, std::string iterations, const std::vector<std::string>& names)
+        : evaluations_(std::move(evaluations)), iterations_(std::move(iterations)), names_(names) {}
+
+    void rewrite(const std::vector<OptimizationRecord>& records) {
+        std::string e = evaluationHeader(), i = iterationHeader();
+        for (const OptimizationRecord& r : records) {
+            if (r.kind == Kind::Values || r.kind == Kind::Gradient) e += evaluationRow(r) + "\n";
+            if (r.kind == Kind::Iteration) i += iterationRow(r) + "\n";
+            if (r.kind == Kind::Values) values_[r.index] = r;
+        }
+        writeTextAtomically(evaluations_, e, "history file");
+        writeTextAtomically(iterations_, i, "history file");
+    }
+
+    void append(const OptimizationRecord& r) {
+        if (r.kind == Kind::Values) values_[r.index] = r;
+        if (r.kind == Kind::Values || r.kind == Kind::Gradient) appendLine(evaluations_, evaluationRow(r), "history file");
+        if (r.kind == Kind::Iteration) appendLine(iterations_, iterationRow(r), "history file");
+    }
+
+    /// The values record at x (the last evaluated there), or null.
+    const OptimizationRecord* valuesAt(const std::vector<double>& x) const {
+        for (auto it = values_.rbegin(); it != values_.rend(); ++it) {
+            if (sameBits(it->second.x, x)) return &it->second;
+        }
+        return nullptr;
+    }
+
+private:
+    std::string evaluationHeader() const {
+        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,alpha_deg,flow_iterations,adjoint_iterations,"
+                        "seconds,message";
+        for (const std::string& n : names_) h += "," + n;
+        return h + "\n";
+    }
+    static std::string iterationHeader() {
+        return "iteration,evaluations,gradients,objective,optimality,feasibility,J,CL,CD,CL/CD,volume\n";
+    }
+    std::string evaluationRow(const OptimizationRecord& r) const {
+        std::string s = std::string(recordKindName(r.kind)) + "," + std::to_string(r.index) + ",";
+        if (r.kind == Kind::Values) {
+            s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
+                 csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
+                 csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
+                 csvNumber(r.alphaDeg) + "," + std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
+                 csvText(r.message);
+        } else {
+            // status, then objective .. flow_iterations empty (9 fields), then adjoint_iterations.
+            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
+                 csvNumber(r.seconds) + "," + csvText(r.message);
+        }
+        for (double u : r.x) s += "," + csvNumber(u);
+        return s;
+    }
+    std::string iterationRow(const OptimizationRecord& r) const {
+        std::string s = std::to_string(r.index) + "," + std::to_string(r.evaluations) + "," + std::to_string(r.gradients) + "," +
+                        csvNumber(r.objective) + "," + csvNumber(r.optimality) + "," + csvNumber(r.feasibility);
+        const OptimizationRecord* v = valuesAt(r.x);
+        if (v && v->ok) {
+            s += "," + csvNumber(v->J) + "," + csvNumber(v->CL) + "," + csvNumber(v->CD) + "," + csvNumber(v->CL / v->CD) + "," +
+                 csvNumber(v->volume);
+        } else {
+            s += ",,,,,";
+        }
+        return s;
+    }
+
+    std::string evaluations_, iterations_;
+    std::vector<std::string> names_;
+    std::map<int, OptimizationRecord> values_;
+};
+
+}  // namespace
+
+const char* recordKindName(Kind k) {
+    switch (k) {
+        case Kind::Header: return "header";
+        case Kind::Values: return "values";
+        case Kind::Gradient: return "gradient";
+        case Kind::Iteration: return "iteration";
+    }
+    return "?";
+}
+
+std::string historyJsonlPath(const std::string& csv) {
+    fs::path p(csv);
+    p.replace_extension(".jsonl");
+    return p.string();
+}
+
+std::vector<OptimizationRecord> readHistory(const std::string& jsonl) {
+    std::ifstream in(jsonl, std::ios::binary);
+    if (!in) throw InputError("cannot read the optimization history '" + jsonl + "': " + std::strerror(errno));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    std::vector<OptimizationRecord> records;
+    std::size_t start = 0;
+    int line = 0;
+    while (start < text.size()) {
+        const std::size_t end = text.find('\n', start);
+        ++line;
+        if (end == std::string::npos) break;  // incomplete last line (killed while writing): dropped
+        const std::string where = "'" + jsonl + "' line " + std::to_string(line);
+        try {
+            records.push_back(fromJson(Json::parse(text.substr(start, end - start)), where));
+        } catch (const Json::exception& e) {
+            throw InputError(where + ": not a history record: " + e.what());
+        }
+        start = end + 1;
+    }
+    return records;
+}
+
+OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const io::CaseFile& c = ev.caseFile();
+    const io::OptimizationCase& oc = c.optimization;
+    if (!oc.present) throw CaseError("'" + c.path + "': the case has no \"optimization\" section");
+    if (!c.flow.present) throw CaseError("'" + c.path + "': the optimization needs a \"flow\" section");
+    if (!ev.model() || ev.variableCount() == 0) throw CaseError("'" + c.path + "': the case has no design variables to optimize");
+    checkGradientFunctional(oc.objective);
+    const std::unique_ptr<optimize::Optimizer> optimizer = [&] {
+        try {
+            return optimize::makeOptimizer(oc.optimizer);
+        } catch (const std::invalid_argument& e) {
+            throw CaseError("'" + c.path + "': optimization.optimizer: " + e.what());
+        }
+    }();
+    auto say = [&](const std::string& s) {
+        if (o.log) o.log(s);
+    };
+
+    // The optimizer's variables.
+    const ffd::FfdModel& model = *ev.model();
+    const std::vector<ffd::DesignVariable>& vars = model.design().variables();
+    const int nv = static_cast<int>(vars.size());
+    const bool withAlpha = oc.alphaVariable;
+    const int n = nv + (withAlpha ? 1 : 0);
+    std::vector<double> scale(nv);
+    OptimizationSummary summary;
+    optimize::Problem p;
+    for (int i = 0; i < nv; ++i) {
+        scale[i] = vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
+        p.lower.push_back(vars[i].lower / scale[i]);
+        p.upper.push_back(vars[i].upper / scale[i]);
+        p.start.push_back(ev.caseValues()[i] / scale[i]);
+        summary.names.push_back(vars[i].name);
+    }
+    if (withAlpha) {
+        p.lower.push_back(oc.alphaLower / kAlphaScale);
+        p.upper.push_back(oc.alphaUpper / kAlphaScale);
+        p.start.push_back(c.flow.freeStream.alphaDeg / kAlphaScale);
+        summary.names.push_back("alpha");
+    }
+    auto design = [&](const std::vector<double>& u) {
+        std::vector<double> v(nv);
+        for (int i = 0; i < nv; ++i) v[i] = u[i] * scale[i];
+        return v;
+    };
+    auto alphaOf = [&](const std::vector<double>& u) { return withAlpha ? u[nv] * kAlphaScale : c.flow.freeStream.alphaDeg; };
+
+    for (const ffd::LinearConstraint& lc : ev.linearConstraints()) {
+        optimize::LinearRow r;
+        r.name = lc.name;
+        for (int i = 0; i < nv; ++i) {
+            if (lc.row[i] != 0) {
+                r.index.push_back(i);
+                r.coefficient.push_back(lc.row[i] * scale[i]);
+            }
+        }
+        r.lower = lc.lower;
+        r.upper = lc.upper;
+        if (!r.index.empty()) p.linear.push_back(std::move(r));
+    }
+    summary.startVolume = model.volume(design(p.start));
+    const bool volumeConstraint = c.minVolume.has_value();
+    const double infinity = std::numeric_limits<double>::infinity();
+    if (volumeConstraint) {
+        const double minimum = std::isnan(*c.minVolume) ? summary.startVolume : *c.minVolume;
+        p.nonlinear.push_back({"volume / start volume", minimum / summary.startVolume, infinity});
+    }
+    if (oc.liftConstraint) p.nonlinear.push_back({"CL", oc.targetCL, oc.targetCL});
+    const double sign = (oc.maximize ? -1.0 : 1.0) * oc.objectiveScale;
+    GradientOptions go;
+    go.functionals = {oc.objective};
+    if (oc.liftConstraint && oc.objective != "CL") go.functionals.push_back("CL");
+
+    // The history files.
+    summary.historyCsv = oc.history;
+    summary.historyJsonl = historyJsonlPath(oc.history);
+    {
+        fs::path it(oc.history);
+        summary.iterationsCsv = (it.parent_path() / (it.stem().string() + "_iterations.csv")).string();
+    }
+    const fs::path stateDir = fs::path(summary.historyJsonl).replace_extension(".states");
+    if (!fs::path(oc.history).parent_path().empty()) fs::create_directories(fs::path(oc.history).parent_path());
+    OptimizationRecord header;
+    header.kind = Kind::Header;
+    header.optimizer = oc.optimizer;
+    header.objectiveName = oc.objective;
+    header.names = summary.names;
+    std::deque<OptimizationRecord> replay;
+    std::vector<OptimizationRecord> kept;  // the records of the file, as they stay
+    int recordedIterations = -1;
+    CsvHistory csv(summary.historyCsv, summary.iterationsCsv, summary.names);
+    if (o.resume) {
+        if (!fs::exists(summary.historyJsonl)) {
+            throw InputError("nothing to resume: the optimization history '" + summary.historyJsonl + "' does not exist");
+        }
+        kept = readHistory(summary.historyJsonl);
+        if (kept.empty() || kept.front().kind != Kind::Header) {
+            throw InputError("'" + summary.historyJsonl + "' does not start with a history header");
+        }
+        const OptimizationRecord& h = kept.front();
+        if (h.names != header.names || h.optimizer != header.optimizer || h.objectiveName != header.objectiveName) {
+            throw InputError("'" + summary.historyJsonl + "' was written for another problem (optimizer " + h.optimizer +
+                             ", objective " + h.objectiveName + ", " + std::to_string(h.names.size()) +
+                             " variables); the case now has optimizer " + header.optimizer + ", objective " +
+                             header.objectiveName + ", " + std::to_string(header.names.size()) + " variables");
+        }
+        for (const OptimizationRecord& r : kept) {
+            if (r.kind == Kind::Values || r.kind == Kind::Gradient) replay.push_back(r);
+            if (r.kind == Kind::Iteration) recordedIterations = std::max(recordedIterations, r.index);
+        }
+        say(format("resuming: %.0f evaluations and %.0f gradients in '%s' are replayed, not solved again",
+                   static_cast<double>(std::count_if(replay.begin(), replay.end(), [](const auto& r) { return r.kind == Kind::Values; })),
+                   static_cast<double>(std::count_if(replay.begin(), replay.end(), [](const auto& r) { return r.kind == Kind::Gradient; })),
+                   summary.historyJsonl.c_str()));
+    } else {
+        if (fs::exists(summary.historyJsonl) && fs::file_size(summary.historyJsonl) > 0 && !o.fresh) {
+            throw InputError("the optimization history '" + summary.historyJsonl +
+                             "' exists: resume it (--resume), or start over and replace it (--fresh)");
+        }
+        fs::remove_all(stateDir);
+        kept.push_back(header);
+    }
+    fs::create_directories(stateDir);
+    // The file as it stays (a cut last line dropped), then appended to.
+    {
+        std::string text;
+        for (const OptimizationRecord& r : kept) text += toJson(r).dump() + "\n";
+        writeTextAtomically(summary.historyJsonl, text, "optimization history");
+    }
+    csv.rewrite(kept);
+    if (!oc.iterations.empty()) fs::create_directories(oc.iterations);
+
+    auto statePath = [&](int index) { return (stateDir / (std::to_string(index) + ".state")).string(); };
+    int evaluations = 0, gradients = 0;
+    int lastOk = 0;                 // the last converged evaluation (its state is the warm start)
+    std::map<int, int> warmFromOf;  // evaluation -> the evaluation its flow started from
+    std::shared_ptr<Evaluation> last;  // the last evaluation run here (for its gradient)
+    std::vector<double> lastX;
+    bool replaying = !replay.empty();
+    auto record = [&](OptimizationRecord& r) {
+        if (o.onRecord) o.onRecord(r);
+        if (r.replayed) return;
+        appendLine(summary.historyJsonl, toJson(r).dump(), "optimization history");
+        csv.append(r);
+    };
+    auto stopReplay = [&](const char* why) {
+        if (!replaying) return;
+        replaying = false;
+        if (!replay.empty()) {
+            // The optimizer left the recorded path (e.g. another build): the rest no longer applies.
+            say(std::string("the optimizer left the recorded path (") + why + "): the " + std::to_string(replay.size()) +
+                " records after it are discarded and solved anew");
+            std::vector<OptimizationRecord> prefix(kept.begin(), kept.end() - static_cast<long>(replay.size()));
+            kept = prefix;
+            std::string text;
+            for (const OptimizationRecord& r : kept) text += toJson(r).dump() + "\n";
+            writeTextAtomically(summary.historyJsonl, text, "optimization history");
+            csv.rewrite(kept);
+            replay.clear();
+        }
+        if (lastOk > 0) ev.setWarmStart(readState(statePath(lastOk)));
+    };
+    auto keepStates = [&](int newest, int previous) {
+        // Only the newest converged state and the one it started from are needed by a resume.
+        for (const auto& entry : fs::directory_iterator(stateDir)) {
+            const std::string stem = entry.path().stem().string();
+            const int k = std::atoi(stem.c_str());
+            if (k != newest && k != previous) fs::remove(entry.path());
+        }
+    };
+    auto evaluateAt = [&](const std::vector<double>& u) {
+        EvaluationRequest req;
+        req.alphaDeg = alphaOf(u);
+        return std::make_shared<Evaluation>(ev.evaluate(design(u), req, o.progress, o.cancel));
+    };
+
+    p.values = [&](const std::vector<double>& u) -> optimize::Values {
+        optimize::Values out;
+        if (replaying && !replay.empty() && replay.front().kind == Kind::Values && sameBits(replay.front().x, u)) {
+            OptimizationRecord r = replay.front();
+            replay.pop_front();
+            r.replayed = true;
+            ++summary.replayedEvaluations;
+            evaluations = r.index;
+            if (r.ok) {
+                warmFromOf[r.index] = r.warmFrom;
+                lastOk = r.index;
+            }
+            record(r);
+            out.ok = r.ok;
+            out.message = r.message;
+            out.objective = r.objective;
+            out.constraints = r.constraints;
+            return out;
+        }
+        stopReplay("another evaluation point");
+        OptimizationRecord r;
+        r.kind = Kind::Values;
+        r.index = ++evaluations;
+        r.x = u;
+        r.alphaDeg = alphaOf(u);
+        r.warmFrom = lastOk;
+        const auto t = std::chrono::steady_clock::now();
+        std::shared_ptr<Evaluation> e = evaluateAt(u);
+        r.seconds = since(t);
+        if (e->status == EvaluationStatus::Cancelled) {
+            --evaluations;  // not recorded: a resumed run evaluates it again
+            out.ok = false;
+            out.message = "cancelled";
+            return out;
+        }
+        const std::vector<double> v = design(u);
+        r.volume = model.volume(v);
+        r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
+        if (e->flow) {
+            r.flowIterations = static_cast<int>(e->flow->report.iterations);
+            if (e->flow->warmStarted) {
+                ++summary.warmStarts;
+                summary.meanWarmFlowIterations += r.flowIterations;
+            } else if (summary.coldFlowIterations == 0) {
+                summary.coldFlowIterations = r.flowIterations;
+            }
+        }
+        if (e->ok()) {
+            const flow::ForceCoefficients& f = e->flow->forces;
+            r.J = oc.objective == "CL/CD" ? f.CL / f.CD : adjoint::functionalValue(adjoint::functionalByName(oc.objective), f);
+            r.CL = f.CL;
+            r.CD = f.CD;
+            r.CM = f.CM;
+            r.objective = sign * r.J;
+            if (volumeConstraint) r.constraints.push_back(r.volume / summary.startVolume);
+            if (oc.liftConstraint) r.constraints.push_back(f.CL);
+            writeState(statePath(r.index), e->flow->q);
+            keepStates(r.index, lastOk);
+            warmFromOf[r.index] = lastOk;
+            lastOk = r.index;
+            last = e;
+            lastX = u;
+        } else {
+            r.ok = false;
+            r.message = e->message;
+        }
+        record(r);
+        out.ok = r.ok;
+        out.message = r.ok ? std::string() : r.status + ": " + r.message;
+        out.objective = r.objective;
+        out.constraints = r.constraints;
+        return out;
+    };
+
+    p.gradients = [&](const std::vector<double>& u) -> optimize::Gradients {
+        optimize::Gradients out;
+        if (replaying && !replay.empty() && replay.front().kind == Kind::Gradient && sameBits(replay.front().x, u)) {
+            OptimizationRecord r = replay.front();
+            replay.pop_front();
+            r.replayed = true;
+            ++summary.replayedGradients;
+            gradients = r.index;
+            record(r);
+            out.ok = r.ok;
+            out.message = r.message;
+            out.objective = r.dObjective;
+            out.constraints = r.dConstraints;
+            return out;
+        }
+        stopReplay("another gradient point");
+        OptimizationRecord r;
+        r.kind = Kind::Gradient;
+        r.index = ++gradients;
+        r.x = u;
+        const auto t = std::chrono::steady_clock::now();
+        std::shared_ptr<Evaluation> e = last;
+        if (!e || !sameBits(lastX, u)) {
+            // Not the last evaluation here (e.g. its values were replayed): solve it again from the
+            // state it started from, without disturbing the warm start of the next evaluation.
+            const OptimizationRecord* v = csv.valuesAt(u);
+            const std::vector<double> keep = ev.lastConvergedState();
+            const int from = v && warmFromOf.count(v->index) ? warmFromOf[v->index] : lastOk;
+            if (from > 0) ev.setWarmStart(readState(statePath(from)));
+            else ev.forgetWarmStart();
+            e = evaluateAt(u);
+            ev.setWarmStart(keep);
+        }
+        if (!e->ok()) {
+            r.ok = false;
+            r.message = std::string("the evaluation for the gradient failed: ") + evaluationStatusName(e->status) + ": " + e->message;
+        } else {
+            const GradientResult g = computeGradient(ev, *e, go);
+            for (const auto& a : g.adjoints) r.adjointIterations += static_cast<int>(a.iterations);
+            if (!g.ok) {
+                r.ok = false;
+                r.message = g.message;
+            } else {
+                const FunctionalGradient& fo = *g.find(oc.objective);
+                r.dObjective.assign(n, 0.0);
+                for (int i = 0; i < nv; ++i) r.dObjective[i] = sign * fo.dv[i] * scale[i];
+                if (withAlpha) r.dObjective[nv] = sign * fo.dalpha * kAlphaScale;
+                if (volumeConstraint) {
+                    const std::vector<double> dV = model.volumeGradient(design(u));
+                    std::vector<double> row(n, 0.0);
+                    for (int i = 0; i < nv; ++i) row[i] = dV[i] * scale[i] / summary.startVolume;
+                    r.dConstraints.push_back(row);
+                }
+                if (oc.liftConstraint) {
+                    const FunctionalGradient& fl = *g.find("CL");
+                    std::vector<double> row(n, 0.0);
+                    for (int i = 0; i < nv; ++i) row[i] = fl.dv[i] * scale[i];
+                    if (withAlpha) row[nv] = fl.dalpha * kAlphaScale;
+                    r.dConstraints.push_back(row);
+                }
+            }
+        }
+        r.seconds = since(t);
+        record(r);
+        out.ok = r.ok;
+        out.message = r.message;
+        out.objective = r.dObjective;
+        out.constraints = r.dConstraints;
+        return out;
+    };
+
+    auto writeShape = [&](const std::vector<double>& u, const std::string& stem) {
+        EvaluationRequest req;
+        req.mesh = false;
+        req.flow = false;
+        const Evaluation e = ev.evaluate(design(u), req);
+        saveGeometry(e.shape, stem + ".igs");
+        io::writeVtm(stem + ".vtm", io::geometryBlocks(e.shape, &ev.baseline(), e.lattices, nullptr));
+        return stem + ".igs";
+    };
+
+    optimize::Settings s;
+    s.optimalityTolerance = oc.optimalityTolerance;
+    s.feasibilityTolerance = oc.feasibilityTolerance;
+    s.maxIterations = oc.maxIterations;
+    s.maxEvaluations = oc.maxEvaluations;
+    s.cancel = o.cancel;
+    s.log = o.log;
+    s.onIteration = [&](const optimize::Iteration& it) {
+        OptimizationRecord r;
+        r.kind = Kind::Iteration;
+        r.index = it.iteration;
+        r.x = it.x;
+        r.evaluations = it.evaluations;
+        r.gradients = it.gradients;
+        r.objective = it.objective;
+        r.optimality = it.optimality;
+        r.feasibility = it.feasibility;
+        r.replayed = it.iteration <= recordedIterations;
+        record(r);
+        const OptimizationRecord* v = csv.valuesAt(it.x);
+        say(format("iteration %.0f: %s %.8g, optimality %.2e, feasibility %.2e, CL %.5f, CD %.5f (%.0f evaluations)%s",
+                   static_cast<double>(it.iteration), oc.objective.c_str(), v ? v->J : kNaN, it.optimality, it.feasibility,
+                   v ? v->CL : kNaN, v ? v->CD : kNaN, static_cast<double>(it.evaluations), r.replayed ? " [replayed]" : ""));
+        if (!oc.iterations.empty() && !r.replayed) {
+            writeShape(it.x, (fs::path(oc.iterations) / format("iteration_%03.0f", static_cast<double>(it.iteration))).string());
+        }
+    };
+    p.check();
+    say(format("%s: %s %s over %.0f variables, %.0f linear and %.0f nonlinear constraints", optimizer->name().c_str(),
+               oc.maximize ? "maximize" : "minimize", oc.objective.c_str(), static_cast<double>(n),
+               static_cast<double>(p.linear.size()), static_cast<double>(p.nonlinear.size())));
+    summary.result = optimizer->minimize(p, s);
+    stopReplay("the optimizer stopped");
+
+    // The best design: its forces from the history, its shape written out.
+    const std::vector<double>& best = summary.result.x;
+    summary.values = design(best);
+    summary.alphaDeg = alphaOf(best);
+    summary.volume = model.volume(summary.values);
+    if (const OptimizationRecord* v = csv.valuesAt(best)) {
+        summary.J = v->J;
+        summary.forces.CL = v->CL;
+        summary.forces.CD = v->CD;
+        summary.forces.CM = v->CM;
+    }
+    if (summary.warmStarts > 0) summary.meanWarmFlowIterations /= summary.warmStarts;
+    {
+        fs::path stem(summary.historyCsv);
+        summary.finalGeometry = writeShape(best, (stem.parent_path() / (stem.stem().string() + "_best")).string());
+        if (!c.outputGeometry.empty()) {
+            EvaluationRequest req;
+            req.mesh = false;
+            req.flow = false;
+            saveGeometry(ev.evaluate(summary.values, req).shape, c.outputGeometry);
+        }
+    }
+    summary.seconds = since(t0);
+    return summary;
+}
+
+}  // namespace aero::study

@@ -1,0 +1,96 @@
+#pragma once
+// The design optimization of a case (Sections IV.C and V of the paper): the case's evaluator and
+// the adjoint gradient behind an optimizer of libcore/optimize.
+//
+// Variables: the design variables scaled by their ranges (u_i = v_i / (upper_i - lower_i)) and,
+// optionally, the angle of attack (u = alpha / 10 degrees). Objective: scale * (-J or J) for the
+// case's functional J. Constraints: the case's linear ones (symmetry across Y = 0, adjacent-station
+// gaps) as linear rows, the enclosed volume >= its bound (V / V_start, exact gradient through both
+// FFD levels) and optionally CL = target (the adjoint's dCL/dv).
+//
+// Every evaluation is appended, as it happens, to the history: `<history>.jsonl` (exact, what
+// --resume replays), `<history>.csv` (per evaluation: status, J, CL, CD, volume, flow and adjoint
+// iterations, times, the design) and `<history stem>_iterations.csv` (per major iteration:
+// objective, optimality, feasibility). Each evaluation's flow starts from the state of the last
+// converged one, which is kept on disk (the last two) so that a resumed run starts its next
+// evaluation from the same state: a run killed at any moment and resumed reaches the same
+// iterates, bit for bit, without solving again what the history holds.
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "optimize/Optimizer.h"
+#include "study/CaseEvaluator.h"
+
+namespace aero::study {
+
+/// One line of the history (JSON lines).
+struct OptimizationRecord {
+    enum class Kind { Header, Values, Gradient, Iteration };
+    Kind kind = Kind::Values;
+    int index = 0;                  // values: evaluation number; gradient: gradient number;
+                                    // iteration: iteration number (all from 1; iteration 0 = start)
+    std::vector<double> x;          // the optimizer's (scaled) variables
+    bool ok = true;
+    std::string status;             // an EvaluationStatus name, or "ok"
+    std::string message;            // why it failed
+    double objective = 0;           // what the optimizer minimizes
+    std::vector<double> constraints;  // the nonlinear constraints (volume ratio, CL)
+    // Values: the evaluation.
+    double J = 0, CL = 0, CD = 0, CM = 0, volume = 0, alphaDeg = 0;
+    int flowIterations = 0;
+    int warmFrom = 0;               // the evaluation whose state this flow started from (0: cold)
+    double seconds = 0;
+    // Gradient.
+    std::vector<double> dObjective;
+    std::vector<std::vector<double>> dConstraints;
+    int adjointIterations = 0;      // GMRES iterations of all flow adjoints
+    // Iteration.
+    int evaluations = 0, gradients = 0;
+    double optimality = 0, feasibility = 0;
+    // Header: what the history belongs to (checked on resume).
+    std::vector<std::string> names;  // the optimizer's variables
+    std::string optimizer, objectiveName;
+    bool replayed = false;           // read back on --resume, not run again
+};
+const char* recordKindName(OptimizationRecord::Kind k);
+
+struct OptimizationOptions {
+    bool resume = false;     // continue the history (replayed, then run on); false: a new run,
+                             // refused if a history exists unless `fresh`
+    bool fresh = false;      // replace an existing history
+    const std::atomic<bool>* cancel = nullptr;
+    Log log;                 // lines for a human
+    std::function<void(const OptimizationRecord&)> onRecord;  // every record written or replayed
+    ProgressFn progress;     // the evaluations' stages and flow iterations
+};
+
+struct OptimizationSummary {
+    optimize::Result result;
+    std::vector<std::string> names;      // the optimizer's variables
+    std::vector<double> values;          // the best design (design variables)
+    double alphaDeg = 0;
+    flow::ForceCoefficients forces;      // at the best design
+    double J = 0, volume = 0, startVolume = 0;
+    int replayedEvaluations = 0, replayedGradients = 0;
+    int coldFlowIterations = 0;          // the first evaluation's flow iterations (cold start)
+    int warmStarts = 0;                  // evaluations warm-started ...
+    double meanWarmFlowIterations = 0;   // ... and their mean flow iterations
+    std::string historyCsv, historyJsonl, iterationsCsv, finalGeometry;
+    double seconds = 0;
+};
+
+/// Runs the case's optimization section. Throws CaseError for a case without one (or without
+/// design variables), InputError for a history that cannot be read or written or belongs to
+/// another problem. Failed evaluations are not errors: the optimizer cuts its step.
+OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o = {});
+
+/// The JSON-lines history beside a CSV history path (".csv" -> ".jsonl").
+std::string historyJsonlPath(const std::string& csv);
+
+/// The records of a JSON-lines history, in order. A last line that is incomplete (a run killed
+/// while writing it) is dropped; any other bad line throws InputError naming the file and line.
+std::vector<OptimizationRecord> readHistory(const std::string& jsonl);
+
+}  // namespace aero::study
