@@ -179,6 +179,10 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             io::writeFlowVtm(c.outputFlowVtk, fm, fr.x, fr.q, fr.residualOptions.freeStream);
             outputs["flow_vtk"] = c.outputFlowVtk;
         }
+        if (!c.outputWallPressure.empty()) {
+            io::writeWallPressureCsv(c.outputWallPressure, fm, fr.x, fr.q, fr.residualOptions.freeStream);
+            outputs["wall_pressure"] = c.outputWallPressure;
+        }
         for (const auto& [key, file] : outputs.items()) say("wrote " + file.get<std::string>());
 
         // Adjoints of the converged state (libcore/adjoint): one linearization, one solve each.

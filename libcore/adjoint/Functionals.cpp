@@ -5,111 +5,173 @@
 
 #include "common/Error.h"
 #include "flow/Metrics.h"
+#include "flow/Residual.h"
 
 namespace aero::adjoint {
 
 namespace {
 
+using C = std::complex<double>;
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 struct Entry {
-    Functional f;
+    Functional::Kind kind;
     const char* name;
 };
-constexpr Entry kTable[] = {{Functional::CL, "CL"}, {Functional::CD, "CD"}, {Functional::CM, "CM"}, {Functional::CY, "CY"}};
+constexpr Entry kTable[] = {{Functional::Kind::CL, "CL"},
+                            {Functional::Kind::CD, "CD"},
+                            {Functional::Kind::CM, "CM"},
+                            {Functional::Kind::CY, "CY"},
+                            {Functional::Kind::PressureMismatch, "pressure"}};
+
+template <class T>
+T magnitude(const T n[3]) {
+    return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
 
 }  // namespace
 
-void functionalWeights(Functional f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
+Functional Functional::pressureMismatch(std::vector<double> target) {
+    return {Kind::PressureMismatch, std::make_shared<const std::vector<double>>(std::move(target))};
+}
+
+void functionalWeights(const Functional& f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
                        double wM[3]) {
     const double qs = fs.dynamicPressure() * ref.area;
     const double ca = std::cos(fs.alpha()), sa = std::sin(fs.alpha());
     for (int c = 0; c < 3; ++c) wF[c] = wM[c] = 0;
-    switch (f) {
-        case Functional::CL:
+    switch (f.kind) {
+        case Functional::Kind::CL:
             wF[0] = -sa / qs;
             wF[2] = ca / qs;
             break;
-        case Functional::CD:
+        case Functional::Kind::CD:
             wF[0] = ca / qs;
             wF[2] = sa / qs;
             break;
-        case Functional::CM:
+        case Functional::Kind::CM:
             wM[1] = 1.0 / (qs * ref.length);
             break;
-        case Functional::CY:
+        case Functional::Kind::CY:
             wF[1] = 1.0 / qs;
+            break;
+        case Functional::Kind::PressureMismatch:
             break;
     }
 }
 
+template <class T>
+T wallNodeShare(const Functional& f, const flow::WallNode& w, std::size_t k, const T* metrics, const T* x, const T* q,
+                const flow::FreeStream& fs, const flow::ForceReference& ref) {
+    if (f.kind == Functional::Kind::PressureMismatch) {
+        if (!f.targetPressure || k >= f.targetPressure->size()) {
+            throw GeometryError("the target pressure has " + std::to_string(f.targetPressure ? f.targetPressure->size() : 0) +
+                                " wall values; the grid has more wall nodes (another grid?)");
+        }
+        T n[3];
+        flow::outwardNormal(metrics, w.face, n);
+        const T d = flow::pressure(q, fs.gamma) - (*f.targetPressure)[k];
+        return 0.5 * d * d * w.weight * magnitude(n);
+    }
+    double wF[3], wM[3];
+    functionalWeights(f, fs, ref, wF, wM);
+    T dF[3], dM[3];
+    flow::wallNodeForce(w, metrics, x, q, fs, ref.point, dF, dM);
+    T s = 0.0;
+    for (int c = 0; c < 3; ++c) s += wF[c] * dF[c] + wM[c] * dM[c];
+    return s;
+}
+
+template double wallNodeShare<double>(const Functional&, const flow::WallNode&, std::size_t, const double*, const double*,
+                                      const double*, const flow::FreeStream&, const flow::ForceReference&);
+template C wallNodeShare<C>(const Functional&, const flow::WallNode&, std::size_t, const C*, const C*, const C*,
+                            const flow::FreeStream&, const flow::ForceReference&);
+
 Functional functionalByName(const std::string& name) {
     std::string list;
     for (const Entry& e : kTable) {
-        if (name == e.name) return e.f;
+        if (e.kind == Functional::Kind::PressureMismatch) continue;
+        if (name == e.name) return {e.kind, nullptr};
         list += std::string(list.empty() ? "" : ", ") + e.name;
     }
     throw CaseError("unknown functional '" + name + "' (expected " + list + ")");
 }
 
-const char* functionalName(Functional f) {
+const char* functionalName(const Functional& f) {
     for (const Entry& e : kTable) {
-        if (e.f == f) return e.name;
+        if (e.kind == f.kind) return e.name;
     }
     return "?";
 }
 
-double functionalValue(Functional f, const flow::ForceCoefficients& c) {
-    switch (f) {
-        case Functional::CL:
+double functionalValue(const Functional& f, const flow::ForceCoefficients& c) {
+    switch (f.kind) {
+        case Functional::Kind::CL:
             return c.CL;
-        case Functional::CD:
+        case Functional::Kind::CD:
             return c.CD;
-        case Functional::CM:
+        case Functional::Kind::CM:
             return c.CM;
-        case Functional::CY:
+        case Functional::Kind::CY:
             return c.CY;
+        case Functional::Kind::PressureMismatch:
+            break;
     }
-    return 0;
+    throw Error("functionalValue: the pressure mismatch needs the state, not the forces");
 }
 
-std::vector<double> stateGradient(Functional f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
+double functionalValue(const Functional& f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                       const std::vector<double>& x, const std::vector<double>& q, const flow::FreeStream& fs,
+                       const flow::ForceReference& ref) {
+    const std::vector<flow::WallNode> wall = flow::wallNodes(fm);
+    double s = 0;
+    for (std::size_t k = 0; k < wall.size(); ++k) {
+        const flow::WallNode& w = wall[k];
+        s += wallNodeShare<double>(f, w, k, &metrics[flow::kMetricWidth * w.node], &x[3 * w.node], &q[flow::kVars * w.node],
+                                   fs, ref);
+    }
+    return s;
+}
+
+std::vector<double> stateGradient(const Functional& f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
                                   const std::vector<double>& x, const std::vector<double>& q,
                                   const flow::FreeStream& fs, const flow::ForceReference& ref) {
-    using C = std::complex<double>;
-    double wF[3], wM[3];
-    functionalWeights(f, fs, ref, wF, wM);
     std::vector<double> g(q.size(), 0.0);
     constexpr double h = 1e-30;  // complex step: exact to round-off
-    for (const flow::WallNode& w : flow::wallNodes(fm)) {
+    const std::vector<flow::WallNode> wall = flow::wallNodes(fm);
+    for (std::size_t k = 0; k < wall.size(); ++k) {
+        const flow::WallNode& w = wall[k];
         C m[flow::kMetricWidth], xn[3], qn[flow::kVars];
-        for (int k = 0; k < flow::kMetricWidth; ++k) m[k] = metrics[flow::kMetricWidth * w.node + k];
-        for (int k = 0; k < 3; ++k) xn[k] = x[3 * w.node + k];
+        for (int i = 0; i < flow::kMetricWidth; ++i) m[i] = metrics[flow::kMetricWidth * w.node + i];
+        for (int i = 0; i < 3; ++i) xn[i] = x[3 * w.node + i];
         for (int v = 0; v < flow::kVars; ++v) {
-            for (int k = 0; k < flow::kVars; ++k) qn[k] = q[flow::kVars * w.node + k];
+            for (int i = 0; i < flow::kVars; ++i) qn[i] = q[flow::kVars * w.node + i];
             qn[v] += C(0, h);
-            C dF[3], dM[3];
-            flow::wallNodeForce(w, m, xn, qn, fs, ref.point, dF, dM);
-            double s = 0;
-            for (int c = 0; c < 3; ++c) s += wF[c] * dF[c].imag() + wM[c] * dM[c].imag();
-            g[flow::kVars * w.node + v] += s / h;
+            g[flow::kVars * w.node + v] += wallNodeShare<C>(f, w, k, m, xn, qn, fs, ref).imag() / h;
         }
     }
     return g;
 }
 
-double alphaPartial(Functional f, const flow::ForceCoefficients& c) {
+double alphaPartial(const Functional& f, const flow::ForceCoefficients& c) {
     // CL = -Fx sin a + Fz cos a, CD = Fx cos a + Fz sin a (coefficients): dCL/da = -CD, dCD/da = CL.
-    switch (f) {
-        case Functional::CL:
+    switch (f.kind) {
+        case Functional::Kind::CL:
             return -c.CD * kDegree;
-        case Functional::CD:
+        case Functional::Kind::CD:
             return c.CL * kDegree;
-        case Functional::CM:
-        case Functional::CY:
+        case Functional::Kind::CM:
+        case Functional::Kind::CY:
+        case Functional::Kind::PressureMismatch:
             return 0;
     }
     return 0;
+}
+
+std::vector<double> wallPressure(const flow::FlowMesh& fm, const std::vector<double>& q, double gamma) {
+    std::vector<double> p;
+    for (const flow::WallNode& w : flow::wallNodes(fm)) p.push_back(flow::pressure(&q[flow::kVars * w.node], gamma));
+    return p;
 }
 
 }  // namespace aero::adjoint

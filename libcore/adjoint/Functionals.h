@@ -1,10 +1,15 @@
 #pragma once
 // Aerodynamic functionals J(q; x, alpha) of a flow solution and their exact partial derivatives,
-// the right-hand sides of the discrete adjoint (Section IV.B of the paper, Eq. 10):
-//   dJ/dq (5 per node; non-zero on wall nodes only) by complex step through the templated
-//   per-node force (flow::wallNodeForce), and dJ/dalpha at fixed q (the force projected on the
-//   rotated lift and drag directions). Chosen by name ("CL", "CD", "CM", "CY") so the case file
-//   and the optimizer can refer to them; adding one is one entry of the table in Functionals.cpp.
+// the right-hand sides of the discrete adjoint (Section IV.B of the paper, Eq. 10). Every
+// functional is a sum over the wall nodes of a share j_k(metrics, x, q) templated on the scalar
+// (wallNodeShare), so complex step gives dJ/dq, dJ/dmetrics and dJ/dx exactly, and the flow
+// adjoint, the grid sensitivities and the whole gradient treat them all alike:
+//   CL, CD, CM, CY       the force and moment coefficients (through flow::wallNodeForce);
+//   pressure mismatch    J = 1/2 sum_k (p_k - p_target,k)^2 dA_k, the inverse design's objective
+//                        (Section IV.C.2), against a target pressure per wall node.
+// Chosen by name ("CL", "CD", "CM", "CY", "pressure") so the case file and the optimizer refer to
+// them; adding one is one entry of the table in Functionals.cpp and one case of wallNodeShare.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,26 +18,58 @@
 
 namespace aero::adjoint {
 
-enum class Functional { CL, CD, CM, CY };
+struct Functional {
+    enum class Kind { CL, CD, CM, CY, PressureMismatch };
+    Kind kind = Kind::CL;
+    /// PressureMismatch: the target static pressure at every wall node, in flow::wallNodes order.
+    std::shared_ptr<const std::vector<double>> targetPressure;
 
-/// "CL" -> Functional::CL, ...; throws CaseError naming the choices for an unknown name.
+    static const Functional CL, CD, CM, CY;
+    static Functional pressureMismatch(std::vector<double> target);
+    /// A force or moment coefficient (a linear function of the wall force and moment).
+    bool isForce() const { return kind != Kind::PressureMismatch; }
+    friend bool operator==(const Functional& a, const Functional& b) {
+        return a.kind == b.kind && a.targetPressure == b.targetPressure;
+    }
+};
+inline const Functional Functional::CL{Functional::Kind::CL, nullptr};
+inline const Functional Functional::CD{Functional::Kind::CD, nullptr};
+inline const Functional Functional::CM{Functional::Kind::CM, nullptr};
+inline const Functional Functional::CY{Functional::Kind::CY, nullptr};
+
+/// "CL" -> Functional::CL, ... (the force functionals); throws CaseError naming the choices for an
+/// unknown name. "pressure" is not accepted here: it needs its target (Functional::pressureMismatch).
 Functional functionalByName(const std::string& name);
-const char* functionalName(Functional f);
+const char* functionalName(const Functional& f);
 
-/// J as a linear function of the (unscaled) wall force F and moment M: J = wF . F + wM . M.
-void functionalWeights(Functional f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
+/// A force functional as a linear function of the (unscaled) wall force F and moment M:
+/// J = wF . F + wM . M (zero weights for the pressure mismatch).
+void functionalWeights(const Functional& f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
                        double wM[3]);
 
-/// J from the force coefficients (what flow::integrateForces gives).
-double functionalValue(Functional f, const flow::ForceCoefficients& c);
+/// J's share at wall node w (the k-th entry of flow::wallNodes); metrics, x and q point at this
+/// node's values. Throws GeometryError when a pressure target does not match the wall nodes.
+template <class T>
+T wallNodeShare(const Functional& f, const flow::WallNode& w, std::size_t k, const T* metrics, const T* x, const T* q,
+                const flow::FreeStream& fs, const flow::ForceReference& ref);
+
+/// J from the force coefficients (what flow::integrateForces gives); force functionals only.
+double functionalValue(const Functional& f, const flow::ForceCoefficients& c);
+/// J at a state: the sum of the wall-node shares (any functional).
+double functionalValue(const Functional& f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                       const std::vector<double>& x, const std::vector<double>& q, const flow::FreeStream& fs,
+                       const flow::ForceReference& ref);
 
 /// dJ/dq at q: 5 values per node, global node order, exact to round-off.
-std::vector<double> stateGradient(Functional f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
+std::vector<double> stateGradient(const Functional& f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
                                   const std::vector<double>& x, const std::vector<double>& q,
                                   const flow::FreeStream& fs, const flow::ForceReference& ref);
 
 /// dJ/dalpha at fixed q, per degree of angle of attack (the lift and drag directions and the
-/// moment axis rotate; the free stream's q_inf does not change with alpha).
-double alphaPartial(Functional f, const flow::ForceCoefficients& c);
+/// moment axis rotate; the free stream's q_inf and p_inf, hence the pressure mismatch, do not).
+double alphaPartial(const Functional& f, const flow::ForceCoefficients& c);
+
+/// The static pressure at every wall node (flow::wallNodes order): an inverse design's target.
+std::vector<double> wallPressure(const flow::FlowMesh& fm, const std::vector<double>& q, double gamma);
 
 }  // namespace aero::adjoint

@@ -220,9 +220,9 @@ void addFunctionalGridGradient(Functional f, const flow::FlowMesh& fm, const std
                                const std::vector<double>& x, const std::vector<double>& q,
                                const flow::FreeStream& fs, const flow::ForceReference& ref,
                                std::vector<double>& gm, std::vector<double>& gx) {
-    double wF[3], wM[3];
-    functionalWeights(f, fs, ref, wF, wM);
-    for (const flow::WallNode& w : flow::wallNodes(fm)) {
+    const std::vector<flow::WallNode> wall = flow::wallNodes(fm);
+    for (std::size_t k = 0; k < wall.size(); ++k) {
+        const flow::WallNode& w = wall[k];
         C qn[kVars];
         for (int v = 0; v < kVars; ++v) qn[v] = q[kVars * w.node + v];
         // 10 metric values, then 3 coordinates.
@@ -231,10 +231,7 @@ void addFunctionalGridGradient(Functional f, const flow::FlowMesh& fm, const std
             for (int k = 0; k < kMetricWidth; ++k) m[k] = metrics[kMetricWidth * w.node + k];
             for (int k = 0; k < 3; ++k) xn[k] = x[3 * w.node + k];
             (p < kMetricWidth ? m[p] : xn[p - kMetricWidth]) += C(0.0, kStep);
-            C dF[3], dM[3];
-            flow::wallNodeForce(w, m, xn, qn, fs, ref.point, dF, dM);
-            double s = 0;
-            for (int c = 0; c < 3; ++c) s += wF[c] * dF[c].imag() + wM[c] * dM[c].imag();
+            const double s = wallNodeShare<C>(f, w, k, m, xn, qn, fs, ref).imag();
             if (p < kMetricWidth) {
                 gm[kMetricWidth * w.node + p] += s / kStep;
             } else {

@@ -454,7 +454,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     if (doc.contains("optimization")) {
         const json& j = doc["optimization"];
-        std::vector<std::string> allowed{"history", "iterations"};
+        std::vector<std::string> allowed{"history", "iterations", "target_pressure"};
         for (const auto& o : optimizationOptions()) allowed.push_back(o.spec.key);
         ctx.keys(j, "optimization", allowed);
         OptimizationCase& oc = c.optimization;
@@ -473,10 +473,19 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
             oc.history = (p.parent_path() / (p.stem().string() + ".history.csv")).string();
         }
         if (j.contains("iterations")) oc.iterations = resolve(path, ctx.string(j["iterations"], "optimization.iterations"));
+        if (j.contains("target_pressure")) {
+            oc.targetPressure = resolve(path, ctx.string(j["target_pressure"], "optimization.target_pressure"));
+        }
+        if (oc.objective == "pressure" && oc.targetPressure.empty()) {
+            ctx.fail("optimization.target_pressure", "missing: the objective 'pressure' needs the target's wall pressures (a CSV "
+                                                     "written by output.wall_pressure)");
+        }
+        if (oc.objective == "pressure" && oc.maximize) ctx.fail("optimization.sense", "the pressure mismatch is minimized");
     }
     if (doc.contains("output")) {
         const json& o = doc["output"];
-        ctx.keys(o, "output", {"geometry", "vtk", "mesh_vtk", "control_vtk", "plot3d", "flow_vtk", "residual_csv", "restart"});
+        ctx.keys(o, "output", {"geometry", "vtk", "mesh_vtk", "control_vtk", "plot3d", "flow_vtk", "residual_csv", "restart",
+                               "wall_pressure"});
         if (o.contains("geometry")) c.outputGeometry = resolve(path, ctx.string(o["geometry"], "output.geometry"));
         auto vtm = [&](const char* key, std::string& out) {
             if (!o.contains(key)) return;
@@ -490,6 +499,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         vtm("flow_vtk", c.outputFlowVtk);
         if (o.contains("residual_csv")) c.outputResidualCsv = resolve(path, ctx.string(o["residual_csv"], "output.residual_csv"));
         if (o.contains("restart")) c.outputRestart = resolve(path, ctx.string(o["restart"], "output.restart"));
+        if (o.contains("wall_pressure")) c.outputWallPressure = resolve(path, ctx.string(o["wall_pressure"], "output.wall_pressure"));
         // An output never overwrites an input (issue #20: output.geometry equal to the geometry
         // replaced the user's file with exit 0). A restart read and written in place is allowed:
         // the run continues it.
@@ -502,7 +512,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         const std::pair<const char*, const std::string*> outputs[] = {
             {"geometry", &c.outputGeometry},   {"vtk", &c.outputVtk},           {"mesh_vtk", &c.outputMeshVtk},
             {"control_vtk", &c.outputControlVtk}, {"plot3d", &c.outputPlot3d}, {"flow_vtk", &c.outputFlowVtk},
-            {"residual_csv", &c.outputResidualCsv}, {"restart", &c.outputRestart}};
+            {"residual_csv", &c.outputResidualCsv}, {"restart", &c.outputRestart}, {"wall_pressure", &c.outputWallPressure}};
         for (const auto& [key, file] : outputs) {
             if (same(*file, c.geometry)) ctx.fail(std::string("output.") + key, "is the case's geometry file '" + c.geometry + "' (an output never overwrites an input)");
             if (same(*file, path)) ctx.fail(std::string("output.") + key, "is the case file itself (an output never overwrites an input)");

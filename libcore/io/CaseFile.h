@@ -69,9 +69,13 @@ struct FlowCase {
 /// gaps, minimum volume) plus an optional lift target. Options in io::optimizationOptions().
 struct OptimizationCase {
     bool present = false;
-    std::string objective = "CL/CD";   // a functional of the adjoint layer: CL, CD, CM, CY, CL/CD
+    std::string objective = "CL/CD";   // a functional of the adjoint layer: CL, CD, CM, CY, CL/CD,
+                                       // pressure (the inverse design's mismatch to targetPressure)
+    std::string targetPressure;        // wall pressures (io::writeWallPressureCsv), resolved
     bool maximize = true;              // "sense": maximize or minimize
     double objectiveScale = 1;         // the optimizer sees scale * (+-J)
+    bool rangeScaling = false;         // "variable_scaling": "range" divides each variable by its
+                                       // range; "none" (default) keeps the case's units
     std::string optimizer = "ipopt";   // optimize::optimizerNames()
     double optimalityTolerance = 1e-6;
     double feasibilityTolerance = 1e-6;
@@ -111,6 +115,7 @@ struct CaseFile {
     std::string outputFlowVtk;                 // flow solution fields + wall Cp (.vtm)
     std::string outputResidualCsv;             // residual history (.csv)
     std::string outputRestart;                 // restart file written at the end (.restart)
+    std::string outputWallPressure;            // pressure per wall node (.csv): an inverse design's target
     OptimizationCase optimization;
 };
 

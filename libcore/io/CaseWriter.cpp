@@ -184,6 +184,7 @@ Json caseJson(const CaseFile& c) {
         }
         if (!c.optimization.history.empty()) j["history"] = storedPath(c.optimization.history, c.path);
         if (!c.optimization.iterations.empty()) j["iterations"] = storedPath(c.optimization.iterations, c.path);
+        if (!c.optimization.targetPressure.empty()) j["target_pressure"] = storedPath(c.optimization.targetPressure, c.path);
         doc["optimization"] = std::move(j);
     }
     Json o = Json::object();
@@ -195,6 +196,7 @@ Json caseJson(const CaseFile& c) {
     if (!c.outputFlowVtk.empty()) o["flow_vtk"] = storedPath(c.outputFlowVtk, c.path);
     if (!c.outputResidualCsv.empty()) o["residual_csv"] = storedPath(c.outputResidualCsv, c.path);
     if (!c.outputRestart.empty()) o["restart"] = storedPath(c.outputRestart, c.path);
+    if (!c.outputWallPressure.empty()) o["wall_pressure"] = storedPath(c.outputWallPressure, c.path);
     if (!o.empty()) doc["output"] = std::move(o);
     return doc;
 }

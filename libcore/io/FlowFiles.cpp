@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/AtomicFile.h"
 #include "common/Error.h"
 #include "flow/Outputs.h"
 #include "io/InputFile.h"
@@ -211,6 +212,81 @@ void writeResidualCsv(const std::string& path, const std::vector<flow::FlowItera
         if (!ok) throw InputError("cannot write residual history '" + path + "' (disk full?)");
     }
     replaceWith(tmp, path);
+}
+
+namespace {
+
+// Block and (i, j, k) of a global node.
+void locate(const flow::FlowMesh& fm, long node, int& block, int idx[3]) {
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        const flow::FlowBlock& blk = fm.blocks[b];
+        const long n = static_cast<long>(blk.dims[0]) * blk.dims[1] * blk.dims[2];
+        if (node >= blk.offset && node < blk.offset + n) {
+            const long l = node - blk.offset;
+            block = static_cast<int>(b);
+            idx[0] = static_cast<int>(l % blk.dims[0]);
+            idx[1] = static_cast<int>((l / blk.dims[0]) % blk.dims[1]);
+            idx[2] = static_cast<int>(l / (static_cast<long>(blk.dims[0]) * blk.dims[1]));
+            return;
+        }
+    }
+    block = -1;
+}
+
+}  // namespace
+
+void writeWallPressureCsv(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& x,
+                          const std::vector<double>& q, const flow::FreeStream& fs) {
+    std::string text = "block,i,j,k,x,y,z,p,cp\n";
+    char line[256];
+    for (const flow::WallNode& w : flow::wallNodes(fm)) {
+        int block = 0, idx[3] = {0, 0, 0};
+        locate(fm, w.node, block, idx);
+        const double p = flow::pressure(&q[flow::kVars * w.node], fs.gamma);
+        std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.10g,%.10g,%.10g,%.17g,%.10g\n", block, idx[0], idx[1], idx[2],
+                      x[3 * w.node], x[3 * w.node + 1], x[3 * w.node + 2], p, (p - fs.pressure()) / fs.dynamicPressure());
+        text += line;
+    }
+    ensureParent(path);
+    writeTextAtomically(path, text, "wall pressure file");
+}
+
+std::vector<double> readWallPressureCsv(const std::string& path, const flow::FlowMesh& fm) {
+    std::ifstream in(path);
+    if (!in) throw InputError("cannot read the wall pressure file '" + path + "'");
+    std::string line;
+    std::getline(in, line);  // header
+    const std::vector<flow::WallNode> wall = flow::wallNodes(fm);
+    std::vector<double> p;
+    int row = 1;
+    while (std::getline(in, line)) {
+        ++row;
+        if (line.empty()) continue;
+        const std::string where = "'" + path + "' line " + std::to_string(row);
+        int block = 0, i = 0, j = 0, k = 0;
+        double xx = 0, yy = 0, zz = 0, value = 0;
+        if (std::sscanf(line.c_str(), "%d,%d,%d,%d,%lf,%lf,%lf,%lf", &block, &i, &j, &k, &xx, &yy, &zz, &value) != 8 ||
+            !std::isfinite(value) || value <= 0) {
+            throw InputError(where + ": expected block,i,j,k,x,y,z,p with a positive pressure");
+        }
+        if (p.size() >= wall.size()) {
+            throw InputError(where + ": more rows than the grid's " + std::to_string(wall.size()) + " wall nodes (another grid?)");
+        }
+        int b = 0, idx[3] = {0, 0, 0};
+        locate(fm, wall[p.size()].node, b, idx);
+        if (b != block || idx[0] != i || idx[1] != j || idx[2] != k) {
+            throw InputError(where + ": node (" + std::to_string(block) + ": " + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                             std::to_string(k) + ") is not the grid's wall node of this row, (" + std::to_string(b) + ": " +
+                             std::to_string(idx[0]) + ", " + std::to_string(idx[1]) + ", " + std::to_string(idx[2]) +
+                             ") (a file written for another grid?)");
+        }
+        p.push_back(value);
+    }
+    if (p.size() != wall.size()) {
+        throw InputError("'" + path + "': " + std::to_string(p.size()) + " wall pressures for the grid's " +
+                         std::to_string(wall.size()) + " wall nodes (another grid?)");
+    }
+    return p;
 }
 
 void writeFlowVtm(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& x,

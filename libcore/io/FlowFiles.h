@@ -38,6 +38,16 @@ std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& f
 /// numbers the rows from there (a resumed run continues the count).
 void writeResidualCsv(const std::string& path, const std::vector<flow::FlowIteration>& history, int first = 0);
 
+/// The static pressure at every wall node, in flow::wallNodes order, as CSV (block, i, j, k, x, y,
+/// z, p, cp; p with 17 significant digits): the target of an inverse design
+/// (optimization.target_pressure). x: 3 per node. Replaces the file atomically.
+void writeWallPressureCsv(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& x,
+                          const std::vector<double>& q, const flow::FreeStream& fs);
+/// The pressures of such a file for grid fm (one per wall node, flow::wallNodes order). Throws
+/// InputError naming the file and line when it cannot be read, a row is malformed, or its block
+/// and node are not the grid's wall node of that row (a file written for another grid).
+std::vector<double> readWallPressureCsv(const std::string& path, const flow::FlowMesh& fm);
+
 /// The solution as VTK XML multiblock (`path` ends in .vtm): group "flow" with every block's
 /// grid and the point fields density, velocity, pressure, Cp, Mach, entropy; group "wall" with
 /// every wall face (a surface piece per block face) and Cp, Mach, entropy. x: 3 per node.

@@ -202,8 +202,10 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
     using O = OptimizationCase;
     static const std::vector<Option<O>> options = [] {
         std::vector<Option<O>> o;
-        o.push_back(choice<O>("objective", {"CL/CD", "CL", "CD", "CM", "CY"}, [](O& c) -> std::string& { return c.objective; },
-                              "the functional optimized (its exact gradient by the discrete adjoint)"));
+        o.push_back(choice<O>("objective", {"CL/CD", "CL", "CD", "CM", "CY", "pressure"},
+                              [](O& c) -> std::string& { return c.objective; },
+                              "the functional optimized (its exact gradient by the discrete adjoint); pressure: the "
+                              "inverse design's 1/2 sum (p - p_target)^2 dA over the wall, against target_pressure"));
         {
             Option<O> s;
             s.spec = {"sense", "maximize or minimize the objective", "", OptionKind::Choice, 0, 0, true, true,
@@ -215,6 +217,17 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
         o.push_back(real<O>("objective_scale", "", 0, false, 1e12, false, [](O& c) -> double& { return c.objectiveScale; },
                             "the optimizer sees this times the objective (a gradient of order one helps its first "
                             "step)"));
+        {
+            Option<O> s;
+            s.spec = {"variable_scaling",
+                      "none: the optimizer's variables are the design variables in the case's units (lengths, "
+                      "factors) and alpha in degrees; range: each divided by its range (upper - lower bound), "
+                      "which makes a quasi-Newton first step larger on wide ranges",
+                      "", OptionKind::Choice, 0, 0, true, true, {"none", "range"}};
+            s.get = [](const O& c) { return OptionValue(std::string(c.rangeScaling ? "range" : "none")); };
+            s.set = [](O& c, const OptionValue& v) { c.rangeScaling = std::get<std::string>(v) == "range"; };
+            o.push_back(std::move(s));
+        }
         o.push_back(choice<O>("optimizer", {"ipopt", "slsqp"}, [](O& c) -> std::string& { return c.optimizer; },
                               "Ipopt (interior point, limited-memory Hessian) or NLopt's SLSQP; both stop on the same "
                               "first-order optimality measure"));

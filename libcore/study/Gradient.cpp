@@ -17,15 +17,16 @@ double since(std::chrono::steady_clock::time_point t) {
 }
 
 constexpr const char* kRatio = "CL/CD";
+constexpr const char* kPressure = "pressure";
 
 }  // namespace
 
 void checkGradientFunctional(const std::string& name) {
-    if (name == kRatio) return;
+    if (name == kRatio || name == kPressure) return;
     try {
         (void)adjoint::functionalByName(name);
     } catch (const CaseError&) {
-        throw CaseError("unknown functional '" + name + "' (expected CL, CD, CM, CY or CL/CD)");
+        throw CaseError("unknown functional '" + name + "' (expected CL, CD, CM, CY, CL/CD or pressure)");
     }
 }
 
@@ -44,7 +45,16 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     }
     // The base functionals the requested ones need.
     std::vector<adjoint::Functional> bases;
-    auto need = [&](adjoint::Functional f) {
+    adjoint::Functional pressure;
+    auto byName = [&](const std::string& name) {
+        if (name != kPressure) return adjoint::functionalByName(name);
+        if (!pressure.targetPressure) {
+            if (o.targetPressure.empty()) throw CaseError("the functional 'pressure' needs a target pressure");
+            pressure = adjoint::Functional::pressureMismatch(o.targetPressure);
+        }
+        return pressure;
+    };
+    auto need = [&](const adjoint::Functional& f) {
         for (adjoint::Functional b : bases) {
             if (b == f) return;
         }
@@ -56,7 +66,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             need(adjoint::Functional::CL);
             need(adjoint::Functional::CD);
         } else {
-            need(adjoint::functionalByName(name));
+            need(byName(name));
         }
     }
     const FlowResult& f = *e.flow;
@@ -131,7 +141,8 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     std::vector<FunctionalGradient> base(bases.size());
     for (std::size_t p = 0; p < bases.size(); ++p) {
         base[p].name = adjoint::functionalName(bases[p]);
-        base[p].value = adjoint::functionalValue(bases[p], f.forces);
+        base[p].value = bases[p].isForce() ? adjoint::functionalValue(bases[p], f.forces)
+                                           : adjoint::functionalValue(bases[p], f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference);
         if (ev.model()) {
             const Eigen::Map<const Eigen::VectorXd> g(gA[p].data(), static_cast<Eigen::Index>(gA[p].size()));
             const Eigen::VectorXd dv = dAdv.transpose() * g;
@@ -147,7 +158,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     };
     for (const std::string& name : o.functionals) {
         if (name != kRatio) {
-            res.functionals.push_back(baseOf(adjoint::functionalByName(name)));
+            res.functionals.push_back(baseOf(byName(name)));
             continue;
         }
         const FunctionalGradient& L = baseOf(adjoint::Functional::CL);

@@ -19,12 +19,14 @@
 
 namespace aero::study {
 
-/// "CL", "CD", "CM", "CY" (adjoint::functionalByName) or the ratio "CL/CD". Throws CaseError
-/// naming the choices for anything else.
+/// "CL", "CD", "CM", "CY" (adjoint::functionalByName), the ratio "CL/CD" or the inverse design's
+/// "pressure" (needs GradientOptions::targetPressure). Throws CaseError naming the choices for
+/// anything else.
 void checkGradientFunctional(const std::string& name);
 
 struct GradientOptions {
     std::vector<std::string> functionals{"CL", "CD"};
+    std::vector<double> targetPressure;  // "pressure": the target per wall node (flow::wallNodes order)
     adjoint::AdjointOptions adjoint;
 };
 

@@ -18,6 +18,7 @@
 #include "common/AtomicFile.h"
 #include "common/Error.h"
 #include "common/Format.h"
+#include "io/FlowFiles.h"
 #include "io/GeometryVtk.h"
 #include "io/VtkXml.h"
 #include "study/GeometryFiles.h"
@@ -31,7 +32,6 @@ using Kind = OptimizationRecord::Kind;
 
 namespace {
 
-constexpr double kAlphaScale = 10.0;  // degrees per unit of the optimizer's alpha variable
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double since(std::chrono::steady_clock::time_point t) {
@@ -364,16 +364,17 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     OptimizationSummary summary;
     optimize::Problem p;
     for (int i = 0; i < nv; ++i) {
-        scale[i] = vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
+        scale[i] = oc.rangeScaling && vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
         p.lower.push_back(vars[i].lower / scale[i]);
         p.upper.push_back(vars[i].upper / scale[i]);
         p.start.push_back(ev.caseValues()[i] / scale[i]);
         summary.names.push_back(vars[i].name);
     }
+    const double alphaScale = oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0;  // degrees per unit
     if (withAlpha) {
-        p.lower.push_back(oc.alphaLower / kAlphaScale);
-        p.upper.push_back(oc.alphaUpper / kAlphaScale);
-        p.start.push_back(c.flow.freeStream.alphaDeg / kAlphaScale);
+        p.lower.push_back(oc.alphaLower / alphaScale);
+        p.upper.push_back(oc.alphaUpper / alphaScale);
+        p.start.push_back(c.flow.freeStream.alphaDeg / alphaScale);
         summary.names.push_back("alpha");
     }
     auto design = [&](const std::vector<double>& u) {
@@ -381,7 +382,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         for (int i = 0; i < nv; ++i) v[i] = u[i] * scale[i];
         return v;
     };
-    auto alphaOf = [&](const std::vector<double>& u) { return withAlpha ? u[nv] * kAlphaScale : c.flow.freeStream.alphaDeg; };
+    auto alphaOf = [&](const std::vector<double>& u) { return withAlpha ? u[nv] * alphaScale : c.flow.freeStream.alphaDeg; };
 
     for (const ffd::LinearConstraint& lc : ev.linearConstraints()) {
         optimize::LinearRow r;
@@ -407,6 +408,20 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     const double sign = (oc.maximize ? -1.0 : 1.0) * oc.objectiveScale;
     GradientOptions go;
     go.functionals = {oc.objective};
+    // The inverse design's target: read for the grid at the first evaluation (checked against it).
+    const bool inverse = oc.objective == "pressure";
+    adjoint::Functional mismatch;
+    auto objectiveValue = [&](const FlowResult& f) {
+        if (!inverse) {
+            const flow::ForceCoefficients& fc = f.forces;
+            return oc.objective == "CL/CD" ? fc.CL / fc.CD : adjoint::functionalValue(adjoint::functionalByName(oc.objective), fc);
+        }
+        if (!mismatch.targetPressure) {
+            go.targetPressure = io::readWallPressureCsv(oc.targetPressure, f.mesh);
+            mismatch = adjoint::Functional::pressureMismatch(go.targetPressure);
+        }
+        return adjoint::functionalValue(mismatch, f.mesh, f.metrics, f.x, f.q, f.residualOptions.freeStream, c.flow.reference);
+    };
     if (oc.liftConstraint && oc.objective != "CL") go.functionals.push_back("CL");
 
     // The history files.
@@ -561,7 +576,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         }
         if (e->ok()) {
             const flow::ForceCoefficients& f = e->flow->forces;
-            r.J = oc.objective == "CL/CD" ? f.CL / f.CD : adjoint::functionalValue(adjoint::functionalByName(oc.objective), f);
+            r.J = objectiveValue(*e->flow);
             r.CL = f.CL;
             r.CD = f.CD;
             r.CM = f.CM;
@@ -619,6 +634,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             e = evaluateAt(u);
             ev.setWarmStart(keep);
         }
+        if (e->ok() && inverse && !mismatch.targetPressure) (void)objectiveValue(*e->flow);  // values were replayed
         if (!e->ok()) {
             r.ok = false;
             r.message = std::string("the evaluation for the gradient failed: ") + evaluationStatusName(e->status) + ": " + e->message;
@@ -632,7 +648,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 const FunctionalGradient& fo = *g.find(oc.objective);
                 r.dObjective.assign(n, 0.0);
                 for (int i = 0; i < nv; ++i) r.dObjective[i] = sign * fo.dv[i] * scale[i];
-                if (withAlpha) r.dObjective[nv] = sign * fo.dalpha * kAlphaScale;
+                if (withAlpha) r.dObjective[nv] = sign * fo.dalpha * alphaScale;
                 if (volumeConstraint) {
                     const std::vector<double> dV = model.volumeGradient(design(u));
                     std::vector<double> row(n, 0.0);
@@ -643,7 +659,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                     const FunctionalGradient& fl = *g.find("CL");
                     std::vector<double> row(n, 0.0);
                     for (int i = 0; i < nv; ++i) row[i] = fl.dv[i] * scale[i];
-                    if (withAlpha) row[nv] = fl.dalpha * kAlphaScale;
+                    if (withAlpha) row[nv] = fl.dalpha * alphaScale;
                     r.dConstraints.push_back(row);
                 }
             }

@@ -2,8 +2,8 @@
 // The design optimization of a case (Sections IV.C and V of the paper): the case's evaluator and
 // the adjoint gradient behind an optimizer of libcore/optimize.
 //
-// Variables: the design variables scaled by their ranges (u_i = v_i / (upper_i - lower_i)) and,
-// optionally, the angle of attack (u = alpha / 10 degrees). Objective: scale * (-J or J) for the
+// Variables: the design variables in the case's units and, optionally, the angle of attack in
+// degrees (or each divided by its range: optimization.variable_scaling). Objective: scale * (-J or J) for the
 // case's functional J. Constraints: the case's linear ones (symmetry across Y = 0, adjacent-station
 // gaps) as linear rows, the enclosed volume >= its bound (V / V_start, exact gradient through both
 // FFD levels) and optionally CL = target (the adjoint's dCL/dv).

@@ -84,6 +84,74 @@ TEST(Functionals, NamesAndStateGradientsAgreeWithFiniteDifferences) {
     }
 }
 
+// The wall's area as the sum of its grid quadrilaterals (half the cross product of the diagonals).
+double wallArea(const study::FlowResult& f) {
+    double area = 0;
+    for (const flow::FlowBlock& blk : f.mesh.blocks) {
+        for (int face = 0; face < 6; ++face) {
+            if (blk.faces[face].kind != mesh::BoundaryKind::Wall) continue;
+            const int d = flow::faceDirection(face), a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+            auto node = [&](int ia, int ib) {
+                int idx[3];
+                idx[d] = flow::faceIsMax(face) ? blk.dims[d] - 1 : 0;
+                idx[a] = ia;
+                idx[b] = ib;
+                return blk.offset + idx[0] + static_cast<long>(blk.dims[0]) * (idx[1] + static_cast<long>(blk.dims[1]) * idx[2]);
+            };
+            for (int ia = 0; ia + 1 < blk.dims[a]; ++ia) {
+                for (int ib = 0; ib + 1 < blk.dims[b]; ++ib) {
+                    const double* p00 = &f.x[3 * node(ia, ib)];
+                    const double* p11 = &f.x[3 * node(ia + 1, ib + 1)];
+                    const double* p10 = &f.x[3 * node(ia + 1, ib)];
+                    const double* p01 = &f.x[3 * node(ia, ib + 1)];
+                    const double u[3] = {p11[0] - p00[0], p11[1] - p00[1], p11[2] - p00[2]};
+                    const double v[3] = {p01[0] - p10[0], p01[1] - p10[1], p01[2] - p10[2]};
+                    const double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+                    area += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                }
+            }
+        }
+    }
+    return area;
+}
+
+// The inverse design's functional J = 1/2 sum (p - p_target)^2 dA: with a target offset by 1 it is
+// half the wall's area (the SBP-weighted area elements against the grid's quadrilaterals), it
+// vanishes at its own target, and its state gradient agrees with centred differences.
+TEST(Functionals, PressureMismatchWeighsTheWallsAreaAndHasExactStateGradients) {
+    const study::Evaluation& e = baseState();
+    ASSERT_TRUE(e.ok()) << e.message;
+    const study::FlowResult& f = *e.flow;
+    const flow::FreeStream& fs = f.residualOptions.freeStream;
+    const flow::ForceReference ref = smallCase().flow.reference;
+    std::vector<double> p = adjoint::wallPressure(f.mesh, f.q, fs.gamma);
+    ASSERT_EQ(p.size(), flow::wallNodes(f.mesh).size());
+    EXPECT_EQ(adjoint::functionalValue(adjoint::Functional::pressureMismatch(p), f.mesh, f.metrics, f.x, f.q, fs, ref), 0.0);
+    std::vector<double> shifted = p;
+    for (double& v : shifted) v += 1.0;  // J = 1/2 sum dA: half the wall's area
+    const double half = adjoint::functionalValue(adjoint::Functional::pressureMismatch(shifted), f.mesh, f.metrics, f.x, f.q, fs, ref);
+    EXPECT_NEAR(half, 0.5 * wallArea(f), 0.005 * wallArea(f)) << "half the wall's area";
+    std::vector<double> target = p;
+    for (std::size_t k = 0; k < target.size(); ++k) target[k] *= 1 + 0.05 * std::cos(0.3 * static_cast<double>(k));
+    const adjoint::Functional fn = adjoint::Functional::pressureMismatch(target);
+    EXPECT_STREQ(adjoint::functionalName(fn), "pressure");
+    EXPECT_EQ(adjoint::alphaPartial(fn, f.forces), 0.0);
+    const std::vector<double> g = adjoint::stateGradient(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
+    const std::vector<double> dir = randomVector(f.q.size(), 9);
+    const double h = 1e-6;
+    std::vector<double> qp = f.q, qm = f.q;
+    for (std::size_t i = 0; i < qp.size(); ++i) {
+        qp[i] += h * dir[i];
+        qm[i] -= h * dir[i];
+    }
+    const double fd = (adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qp, fs, ref) -
+                       adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qm, fs, ref)) / (2 * h);
+    EXPECT_NEAR(dot(g, dir), fd, 1e-7 * std::abs(fd));
+    std::vector<double> wrong(p.size() - 1, 0.0);
+    EXPECT_THROW((void)adjoint::functionalValue(adjoint::Functional::pressureMismatch(wrong), f.mesh, f.metrics, f.x, f.q, fs, ref),
+                 GeometryError);
+}
+
 TEST(FlowAdjoint, ConvergesAndIsTheDualOfTheTangentSolve) {
     const study::Evaluation& e = baseState();
     ASSERT_TRUE(e.ok()) << e.message;

@@ -185,6 +185,68 @@ TEST(Options, FlowTableDrivesParserWriterAndDocumentation) {
     }
 }
 
+// The optimization section: defaults inside their ranges, every key parsed and written back, the
+// history resolved beside the case, the checks that need other sections, the documented rows.
+TEST(Options, OptimizationTableDrivesParserWriterAndDocumentation) {
+    const auto& options = io::optimizationOptions();
+    const io::OptimizationCase defaults;
+    for (const auto& o : options) {
+        EXPECT_TRUE(o.spec.check(o.get(defaults)).empty()) << o.spec.key << ": the default is outside its own range";
+        EXPECT_FALSE(o.spec.description.empty()) << o.spec.key;
+    }
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR);
+    const std::string path = dir + "/options_optimization.json";
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"alpha": 2},
+        "optimization": {"objective": "CD", "sense": "minimize", "optimizer": "slsqp", "max_evaluations": 7,
+                         "alpha_variable": true, "lift_constraint": true, "target_cl": 0.3,
+                         "history": "runs/h.csv", "iterations": "runs/shapes"}})";
+    const io::CaseFile c = io::readCase(path);
+    const io::OptimizationCase& o = c.optimization;
+    EXPECT_TRUE(o.present);
+    EXPECT_EQ(o.objective, "CD");
+    EXPECT_FALSE(o.maximize);
+    EXPECT_EQ(o.optimizer, "slsqp");
+    EXPECT_EQ(o.maxEvaluations, 7);
+    EXPECT_TRUE(o.alphaVariable);
+    EXPECT_TRUE(o.liftConstraint);
+    EXPECT_EQ(o.targetCL, 0.3);
+    EXPECT_EQ(o.history, dir + "/runs/h.csv");
+    EXPECT_EQ(o.iterations, dir + "/runs/shapes");
+    const io::CaseFile back = io::parseCase(io::formatCase(c), path);
+    EXPECT_EQ(back.optimization.objective, "CD");
+    EXPECT_FALSE(back.optimization.maximize);
+    EXPECT_EQ(back.optimization.history, o.history);
+    EXPECT_EQ(back.optimization.iterations, o.iterations);
+    EXPECT_EQ(back.optimization.targetCL, 0.3);
+    // Default history beside the case; the errors name the key.
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {}})";
+    EXPECT_EQ(io::readCase(path).optimization.history, dir + "/options_optimization.history.csv");
+    auto refused = [&](const std::string& body, const std::string& message) {
+        std::ofstream(path) << body;
+        try {
+            (void)io::readCase(path);
+            ADD_FAILURE() << "accepted: " << body;
+        } catch (const CaseError& e) {
+            EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+        }
+    };
+    refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "optimization": {}})", "needs a \"flow\" section");
+    refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {"objective": "LD"}})",
+            "optimization.objective");
+    refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {"history": "h.txt"}})",
+            "optimization.history: must end in .csv");
+    refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"alpha": 20},
+               "optimization": {"alpha_variable": true}})", "outside [alpha_lower, alpha_upper]");
+    refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {"max_iterations": 0}})",
+            "optimization.max_iterations");
+    std::ifstream in(std::string(AEROFORM_SAMPLES_DIR) + "/../docs/case-file.md");
+    std::stringstream doc;
+    doc << in.rdbuf();
+    for (const std::string& row : io::optionTableRows(options)) {
+        EXPECT_NE(doc.str().find(row), std::string::npos) << "docs/case-file.md lacks (or has an old version of) the row\n" << row;
+    }
+}
+
 // The mesh section's table: the level applies first, the keys override it, ranges come from the
 // table, and the writer's output reads back to the same options.
 TEST(Options, MeshTableAppliesTheLevelFirstAndChecksRanges) {
