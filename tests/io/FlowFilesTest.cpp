@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/Error.h"
+#include "flow/Outputs.h"
 
 using namespace aero;
 
@@ -147,4 +148,38 @@ TEST(FlowFiles, FlowVtmHasTheFieldsAndTheWallFaces) {
         }
     }
     EXPECT_EQ(pieces, 3);  // two volume blocks, one wall face
+}
+
+// The inverse design's target: one row per wall node, the pressure bit for bit, and a file for
+// another grid (or damaged) refused naming the line.
+TEST(FlowFiles, WallPressureRoundTripsAndBelongsToItsGrid) {
+    const flow::FlowMesh fm = twoBlocks(5);
+    std::vector<double> q(flow::kVars * fm.nodeCount);  // physical: positive pressure
+    for (long n = 0; n < fm.nodeCount; ++n) {
+        const double v[flow::kVars] = {1.0 + 0.001 * static_cast<double>(n % 7), 0.3, 0.01, -0.02, 2.5 + 1.0 / (3.0 + static_cast<double>(n))};
+        std::copy(v, v + flow::kVars, q.begin() + flow::kVars * n);
+    }
+    std::vector<double> x(3 * fm.nodeCount);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.01 * static_cast<double>(i);
+    flow::FreeStream fs;
+    const std::string path = outPath("wall_pressure.csv");
+    io::writeWallPressureCsv(path, fm, x, q, fs);
+    const std::vector<double> p = io::readWallPressureCsv(path, fm);
+    const std::vector<flow::WallNode> wall = flow::wallNodes(fm);
+    ASSERT_EQ(p.size(), wall.size());
+    for (std::size_t k = 0; k < wall.size(); ++k) EXPECT_EQ(p[k], flow::pressure(&q[flow::kVars * wall[k].node], fs.gamma));
+    auto refused = [&](const flow::FlowMesh& other, const std::string& file, const std::string& fragment) {
+        try {
+            (void)io::readWallPressureCsv(file, other);
+            ADD_FAILURE() << "accepted: " << fragment;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+        }
+    };
+    refused(twoBlocks(6), path, "another grid");
+    std::string text = slurp(path);
+    text.replace(text.find('\n', text.find('\n') + 1) + 1, 1, "x");  // damage the second data row
+    std::ofstream(outPath("damaged.csv")) << text;
+    refused(fm, outPath("damaged.csv"), "line 3");
+    refused(fm, outPath("missing.csv"), "cannot read");
 }
