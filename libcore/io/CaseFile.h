@@ -83,6 +83,8 @@ struct OptimizationCase {
     int maxEvaluations = 100;
     bool alphaVariable = false;        // the angle of attack is a variable too (flow.alpha its start)
     double alphaLower = -5, alphaUpper = 10;  // degrees
+    double minCornerRatio = 0.01;      // every grid cell corner keeps this fraction of its baseline
+                                       // volume (0: no grid-validity constraint)
     bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
     double targetCL = 0;
     std::string history;               // evaluation history (.csv; the .jsonl beside it is what

@@ -247,6 +247,11 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "lower bound of the angle of attack when it is a variable"));
         o.push_back(real<O>("alpha_upper", "degrees", -90, false, 90, false, [](O& c) -> double& { return c.alphaUpper; },
                             "upper bound of the angle of attack when it is a variable"));
+        o.push_back(real<O>("min_corner_ratio", "", 0, true, 1, false, [](O& c) -> double& { return c.minCornerRatio; },
+                            "grid validity: a smooth minimum (Kreisselmeier-Steinhauser, rho 50) over every grid cell "
+                            "corner of log(Jacobian / baseline Jacobian) is kept above log(this), with its exact "
+                            "gradient through the mesh adjoint, so the optimizer turns away before the moved grid "
+                            "folds; 0: no such constraint"));
         o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
                                "keep CL equal to target_cl (with its exact gradient)"));
         o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },

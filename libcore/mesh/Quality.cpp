@@ -346,4 +346,113 @@ SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks) {
     return out;
 }
 
+namespace {
+
+// The 8 corner Jacobians of cell (i, j, k) and, with `edges`, their three edge vectors and the
+// nodes each edge runs between: corner c = a + 2b + 4c' at node (i+a, j+b, k+c'); its edge along
+// d goes from the cell's low to high node in d through that corner's other offsets.
+struct CornerEdges {
+    double e[3][3];
+    long from[3], to[3];
+};
+
+void cornerJacobians(const StructuredGrid& g, int i, int j, int k, double det[8], CornerEdges* edges) {
+    long node[8];
+    for (int c = 0; c < 8; ++c) node[c] = g.node(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+    for (int c = 0; c < 8; ++c) {
+        const int a = c & 1, b = (c >> 1) & 1, cc = c >> 2;
+        // The corner's edge along d: between the corner with offset 0 and 1 in d.
+        const int base[3] = {b * 2 + cc * 4, a + cc * 4, a + b * 2};
+        const int step[3] = {1, 2, 4};
+        double e[3][3];
+        for (int d = 0; d < 3; ++d) {
+            const double* lo = &g.xyz[3 * node[base[d]]];
+            const double* hi = &g.xyz[3 * node[base[d] + step[d]]];
+            for (int m = 0; m < 3; ++m) e[d][m] = hi[m] - lo[m];
+            if (edges) {
+                for (int m = 0; m < 3; ++m) edges[c].e[d][m] = e[d][m];
+                edges[c].from[d] = node[base[d]];
+                edges[c].to[d] = node[base[d] + step[d]];
+            }
+        }
+        det[c] = det3(e[0], e[1], e[2]);
+    }
+}
+
+}  // namespace
+
+double cornerRatioSmoothMin(const std::vector<StructuredGrid>& grids, const std::vector<StructuredGrid>& baseline,
+                            double rho, std::vector<std::vector<double>>* gradient) {
+    if (grids.size() != baseline.size()) throw Error("corner ratio: the grid and its baseline differ in blocks");
+    std::vector<std::vector<double>> g(grids.size());  // log ratio per corner, 8 per cell
+    double m = std::numeric_limits<double>::infinity();
+    for (std::size_t b = 0; b < grids.size(); ++b) {
+        const StructuredGrid& x = grids[b];
+        const StructuredGrid& x0 = baseline[b];
+        if (x.dims != x0.dims) throw Error("corner ratio: block '" + x.name + "' differs from its baseline in size");
+        const int ni = x.dims[0] - 1, nj = x.dims[1] - 1, nk = x.dims[2] - 1;
+        g[b].resize(8 * static_cast<std::size_t>(x.cellCount()));
+        double worst = std::numeric_limits<double>::infinity();
+#pragma omp parallel for schedule(static) reduction(min : worst)
+        for (int k = 0; k < nk; ++k) {
+            for (int j = 0; j < nj; ++j) {
+                for (int i = 0; i < ni; ++i) {
+                    double d[8], d0[8];
+                    cornerJacobians(x, i, j, k, d, nullptr);
+                    cornerJacobians(x0, i, j, k, d0, nullptr);
+                    double* out = &g[b][8 * static_cast<std::size_t>(x.cell(i, j, k))];
+                    for (int c = 0; c < 8; ++c) {
+                        out[c] = d[c] > 0 && d0[c] > 0 ? std::log(d[c] / d0[c]) : -std::numeric_limits<double>::infinity();
+                        worst = std::min(worst, out[c]);
+                    }
+                }
+            }
+        }
+        m = std::min(m, worst);
+    }
+    if (gradient) gradient->clear();
+    if (!std::isfinite(m)) return m;
+    double sum = 0;
+    for (const auto& gb : g) {
+        for (double v : gb) sum += std::exp(-rho * (v - m));
+    }
+    const double ks = m - std::log(sum) / rho;
+    if (!gradient) return ks;
+    // dKS/dg = exp(-rho (g - m)) / sum; dg/dx = (d det/dx) / det with d det[e0, e1, e2]/de0 =
+    // e1 x e2 (and cyclically), each edge running between two nodes.
+    gradient->resize(grids.size());
+    for (std::size_t b = 0; b < grids.size(); ++b) {
+        const StructuredGrid& x = grids[b];
+        std::vector<double>& out = (*gradient)[b];
+        out.assign(x.xyz.size(), 0.0);
+        const int ni = x.dims[0] - 1, nj = x.dims[1] - 1, nk = x.dims[2] - 1;
+        for (int k = 0; k < nk; ++k) {
+            for (int j = 0; j < nj; ++j) {
+                for (int i = 0; i < ni; ++i) {
+                    double d[8];
+                    CornerEdges ce[8];
+                    cornerJacobians(x, i, j, k, d, ce);
+                    const double* gc = &g[b][8 * static_cast<std::size_t>(x.cell(i, j, k))];
+                    for (int c = 0; c < 8; ++c) {
+                        const double w = std::exp(-rho * (gc[c] - m)) / sum / d[c];
+                        const double* e = ce[c].e[0];
+                        const double* f = ce[c].e[1];
+                        const double* h = ce[c].e[2];
+                        const double grads[3][3] = {{f[1] * h[2] - f[2] * h[1], f[2] * h[0] - f[0] * h[2], f[0] * h[1] - f[1] * h[0]},
+                                                    {h[1] * e[2] - h[2] * e[1], h[2] * e[0] - h[0] * e[2], h[0] * e[1] - h[1] * e[0]},
+                                                    {e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2], e[0] * f[1] - e[1] * f[0]}};
+                        for (int dd = 0; dd < 3; ++dd) {
+                            for (int mm = 0; mm < 3; ++mm) {
+                                out[3 * ce[c].to[dd] + mm] += w * grads[dd][mm];
+                                out[3 * ce[c].from[dd] + mm] -= w * grads[dd][mm];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    return ks;
+}
+
 }  // namespace aero::mesh

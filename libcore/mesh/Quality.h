@@ -91,6 +91,18 @@ QualitySummary summarize(const std::vector<StructuredGrid>& blocks,
 void requirePositiveJacobians(const std::vector<StructuredGrid>& blocks,
                               const std::vector<CellQuality>& q);
 
+/// A smooth lower bound of how much any cell corner shrank: over every corner of every cell, g =
+/// log(det J / det J_baseline) (the corner Jacobians of cellQuality; `baseline` the same blocks
+/// before the move), aggregated by the Kreisselmeier-Steinhauser function
+///   KS = m - log(sum exp(-rho (g - m))) / rho,  m = min g,
+/// which lies in [m - log(corners) / rho, m]. The design constraint KS >= log(tau) keeps every
+/// corner's volume above tau times its baseline's, a margin before the grid folds. -inf when a
+/// corner is not positive (then no gradient). With `gradient`: dKS/dx per block (3 per node, the
+/// xyz layout of each grid), accumulated in a fixed order (reproducible bit for bit). Throws
+/// Error when the blocks do not match the baseline's.
+double cornerRatioSmoothMin(const std::vector<StructuredGrid>& grids, const std::vector<StructuredGrid>& baseline,
+                            double rho, std::vector<std::vector<double>>* gradient = nullptr);
+
 /// The largest jump of the spacing along a grid line, and where: over every block, direction d
 /// and node n with neighbours on both sides along d, the ratio of the longer to the shorter of
 /// the two edges a = |x(n) - x(n - e_d)| and b = |x(n + e_d) - x(n)| (+inf when exactly one is

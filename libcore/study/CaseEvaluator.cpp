@@ -108,6 +108,7 @@ const char* evaluationStatusName(EvaluationStatus s) {
 struct CaseEvaluator::Baseline {
     mesh::MultiBlockMesh fine;                      // the case's level, extruded around the baseline
     std::unique_ptr<mesh::MultiBlockMesh> coarse;   // half the grid intervals (sequencing), on demand
+    std::vector<mesh::StructuredGrid> grids;        // x = N b of `fine`, on demand
 };
 
 CaseEvaluator::CaseEvaluator(io::CaseFile c, geometry::PatchSet baseline, const Log& log)
@@ -168,6 +169,12 @@ const mesh::MultiBlockMesh& CaseEvaluator::baselineMesh() {
         }
     }
     return mesh_->fine;
+}
+
+const std::vector<mesh::StructuredGrid>& CaseEvaluator::baselineGrids() {
+    baselineMesh();
+    if (mesh_->grids.empty()) mesh_->grids = mesh::regenerateAll(mesh_->fine);
+    return mesh_->grids;
 }
 
 void CaseEvaluator::evaluateShape(Evaluation& e) const {

@@ -158,6 +158,8 @@ public:
     const std::vector<double>& caseValues() const { return caseValues_; }
     /// The baseline control grid and its grid (extruded on first use, then kept).
     const mesh::MultiBlockMesh& baselineMesh();
+    /// The baseline grid x = N b, one block each (generated on first use, then kept).
+    const std::vector<mesh::StructuredGrid>& baselineGrids();
     /// The case's linear constraints on the design (constraints.symmetry, constraints.station_gap),
     /// as the optimizer enforces them: lower <= row . v <= upper. Empty without a model.
     std::vector<ffd::LinearConstraint> linearConstraints() const;

@@ -7,6 +7,7 @@
 #include "common/Error.h"
 #include "common/Format.h"
 #include "mesh/MultiBlock.h"
+#include "mesh/Quality.h"
 
 namespace aero::study {
 
@@ -117,10 +118,26 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         history = &still;
     }
     res.historyBytes = history->bytes();
-    std::vector<std::vector<double>> gb(bases.size(), std::vector<double>(m.control.control.size(), 0.0));
-    for (std::size_t p = 0; p < bases.size(); ++p) {
+    // The grid-validity function goes through the same transpose and mesh adjoint, last.
+    std::vector<std::vector<double>> gxAll = gx;
+    double cornerRatio = 0;
+    if (o.cornerRatioRho > 0) {
+        std::vector<std::vector<double>> perBlock;
+        cornerRatio = mesh::cornerRatioSmoothMin(m.grids, ev.baselineGrids(), o.cornerRatioRho, &perBlock);
+        if (perBlock.empty()) {
+            res.message = "the grid has a folded cell: no gradient of its corner ratio";
+            return res;
+        }
+        std::vector<double> g(f.x.size(), 0.0);
+        for (std::size_t b = 0; b < perBlock.size(); ++b) {
+            std::copy(perBlock[b].begin(), perBlock[b].end(), g.begin() + 3 * f.mesh.blocks[b].offset);
+        }
+        gxAll.push_back(std::move(g));
+    }
+    std::vector<std::vector<double>> gb(gxAll.size(), std::vector<double>(m.control.control.size(), 0.0));
+    for (std::size_t p = 0; p < gxAll.size(); ++p) {
         for (std::size_t b = 0; b < f.mesh.blocks.size(); ++b) {
-            mesh::regenerateTranspose(m.control, static_cast<int>(b), &gx[p][3 * f.mesh.blocks[b].offset], gb[p]);
+            mesh::regenerateTranspose(m.control, static_cast<int>(b), &gxAll[p][3 * f.mesh.blocks[b].offset], gb[p]);
         }
     }
     const std::vector<std::vector<double>> gA =
@@ -169,6 +186,18 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         r.dv.resize(L.dv.size());
         for (std::size_t i = 0; i < L.dv.size(); ++i) r.dv[i] = (L.dv[i] * D.value - L.value * D.dv[i]) / (D.value * D.value);
         r.dalpha = (L.dalpha * D.value - L.value * D.dalpha) / (D.value * D.value);
+        res.functionals.push_back(r);
+    }
+    if (o.cornerRatioRho > 0) {
+        FunctionalGradient r;
+        r.name = kCornerRatio;
+        r.value = cornerRatio;
+        if (ev.model()) {
+            const std::vector<double>& ga = gA.back();
+            const Eigen::Map<const Eigen::VectorXd> g(ga.data(), static_cast<Eigen::Index>(ga.size()));
+            const Eigen::VectorXd dv = dAdv.transpose() * g;
+            r.dv.assign(dv.data(), dv.data() + dv.size());
+        }
         res.functionals.push_back(r);
     }
     res.secondsChain = since(t);

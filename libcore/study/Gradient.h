@@ -24,9 +24,16 @@ namespace aero::study {
 /// anything else.
 void checkGradientFunctional(const std::string& name);
 
+/// The name of the grid-validity function in GradientResult::functionals.
+inline constexpr const char* kCornerRatio = "corner_ratio";
+
 struct GradientOptions {
     std::vector<std::string> functionals{"CL", "CD"};
     std::vector<double> targetPressure;  // "pressure": the target per wall node (flow::wallNodes order)
+    /// Also the gradient of the grid's smooth minimum corner ratio (mesh::cornerRatioSmoothMin
+    /// against the baseline grid, at this rho; 0: not), named kCornerRatio in the result: the
+    /// optimizer's grid-validity constraint, through the same mesh adjoint as the functionals.
+    double cornerRatioRho = 0;
     adjoint::AdjointOptions adjoint;
 };
 

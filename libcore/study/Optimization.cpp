@@ -21,6 +21,7 @@
 #include "io/FlowFiles.h"
 #include "io/GeometryVtk.h"
 #include "io/VtkXml.h"
+#include "mesh/Quality.h"
 #include "study/GeometryFiles.h"
 #include "study/Gradient.h"
 
@@ -32,6 +33,7 @@ using Kind = OptimizationRecord::Kind;
 
 namespace {
 
+constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (io/Options.cpp documents it)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double since(std::chrono::steady_clock::time_point t) {
@@ -82,6 +84,7 @@ Json toJson(const OptimizationRecord& r) {
             j["CD"] = number(r.CD);
             j["CM"] = number(r.CM);
             j["volume"] = number(r.volume);
+            j["corner_ratio"] = number(r.cornerRatio);
             j["alpha"] = number(r.alphaDeg);
             j["flow_iterations"] = r.flowIterations;
             j["warm_from"] = r.warmFrom;
@@ -135,6 +138,7 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.CD = number(j.at("CD"));
             r.CM = number(j.at("CM"));
             r.volume = number(j.at("volume"));
+            if (j.contains("corner_ratio")) r.cornerRatio = number(j["corner_ratio"]);
             r.alphaDeg = number(j.at("alpha"));
             r.flowIterations = j.at("flow_iterations").get<int>();
             r.warmFrom = j.at("warm_from").get<int>();
@@ -405,6 +409,8 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         p.nonlinear.push_back({"volume / start volume", minimum / summary.startVolume, infinity});
     }
     if (oc.liftConstraint) p.nonlinear.push_back({"CL", oc.targetCL, oc.targetCL});
+    const bool gridConstraint = oc.minCornerRatio > 0;
+    if (gridConstraint) p.nonlinear.push_back({"grid corner ratio (log)", std::log(oc.minCornerRatio), infinity});
     const double sign = (oc.maximize ? -1.0 : 1.0) * oc.objectiveScale;
     GradientOptions go;
     go.functionals = {oc.objective};
@@ -423,6 +429,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         return adjoint::functionalValue(mismatch, f.mesh, f.metrics, f.x, f.q, f.residualOptions.freeStream, c.flow.reference);
     };
     if (oc.liftConstraint && oc.objective != "CL") go.functionals.push_back("CL");
+    if (gridConstraint) go.cornerRatioRho = kCornerRatioRho;
 
     // The history files.
     summary.historyCsv = oc.history;
@@ -583,6 +590,10 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             r.objective = sign * r.J;
             if (volumeConstraint) r.constraints.push_back(r.volume / summary.startVolume);
             if (oc.liftConstraint) r.constraints.push_back(f.CL);
+            if (gridConstraint) {
+                r.cornerRatio = mesh::cornerRatioSmoothMin(e->mesh->grids, ev.baselineGrids(), kCornerRatioRho);
+                r.constraints.push_back(r.cornerRatio);
+            }
             writeState(statePath(r.index), e->flow->q);
             keepStates(r.index, lastOk);
             warmFromOf[r.index] = lastOk;
@@ -660,6 +671,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                     std::vector<double> row(n, 0.0);
                     for (int i = 0; i < nv; ++i) row[i] = fl.dv[i] * scale[i];
                     if (withAlpha) row[nv] = fl.dalpha * alphaScale;
+                    r.dConstraints.push_back(row);
+                }
+                if (gridConstraint) {
+                    const FunctionalGradient& fr = *g.find(kCornerRatio);
+                    std::vector<double> row(n, 0.0);
+                    for (int i = 0; i < nv; ++i) row[i] = fr.dv[i] * scale[i];
                     r.dConstraints.push_back(row);
                 }
             }

@@ -39,6 +39,7 @@ struct OptimizationRecord {
     std::vector<double> constraints;  // the nonlinear constraints (volume ratio, CL)
     // Values: the evaluation.
     double J = 0, CL = 0, CD = 0, CM = 0, volume = 0, alphaDeg = 0;
+    double cornerRatio = 0;         // log of the grid's smallest corner ratio (smooth; 0: not computed)
     int flowIterations = 0;
     int warmFrom = 0;               // the evaluation whose state this flow started from (0: cold)
     double seconds = 0;

@@ -10,6 +10,7 @@
 #include "io/CaseFile.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
+#include "mesh/Quality.h"
 #include "study/Gradient.h"
 
 using namespace aero;
@@ -37,9 +38,11 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     ASSERT_TRUE(e.ok()) << e.message;
     study::GradientOptions o;
     o.functionals = {"CL", "CD", "CL/CD"};
+    o.cornerRatioRho = 50;  // the optimizer's grid-validity constraint, through the same mesh adjoint
     const study::GradientResult g = study::computeGradient(ev, e, o);
     ASSERT_TRUE(g.ok) << g.message;
-    ASSERT_EQ(g.functionals.size(), 3u);
+    ASSERT_EQ(g.functionals.size(), 4u);
+    EXPECT_EQ(g.functionals[3].name, study::kCornerRatio);
     std::printf("gradient: linearization %.1f s, adjoint %.1f s, grid %.1f s, mesh %.1f s, chain %.2f s\n",
                 g.secondsLinearization, g.secondsAdjoint, g.secondsGrid, g.secondsMesh, g.secondsChain);
     // A direction over all variables, scaled by their bounds.
@@ -53,11 +56,13 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     // differences have a first-order error once eps crosses a switch (measured: at eps 1e-4 / 1e-5
     // / 1e-6 they differed from the adjoint by 4e-4 / 2e-4 / 5e-8 on one grid), and where the
     // switches lie moves with the grid: as in the paper's check, the best of several steps counts.
+    std::vector<std::pair<double, double>> ratios;  // (step, corner ratio) of every evaluation
     auto at = [&](double s) {
         std::vector<double> w = v;
         for (std::size_t i = 0; i < v.size(); ++i) w[i] += s * z[i];
         study::Evaluation ee = ev.evaluate(w);
         EXPECT_TRUE(ee.ok()) << ee.message;
+        ratios.emplace_back(s, mesh::cornerRatioSmoothMin(ee.mesh->grids, ev.baselineGrids(), o.cornerRatioRho));
         return ee.flow->forces;
     };
     double best[3] = {1e300, 1e300, 1e300}, bestFd[3] = {0, 0, 0}, exact[3] = {0, 0, 0};
@@ -79,5 +84,17 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
         std::printf("%s: adjoint %.10g, centred difference %.10g\n", g.functionals[k].name.c_str(), exact[k], bestFd[k]);
         EXPECT_NEAR(exact[k], bestFd[k], 1e-6 * std::abs(bestFd[k])) << g.functionals[k].name;
     }
+    // The grid's corner ratio: a smooth function of the design (no dissipation switches).
+    EXPECT_NEAR(g.functionals[3].value, mesh::cornerRatioSmoothMin(e.mesh->grids, ev.baselineGrids(), 50), 1e-14);
+    double ratioExact = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) ratioExact += g.functionals[3].dv[i] * z[i];
+    double bestRatio = 1e300;
+    for (std::size_t a = 0; a + 1 < ratios.size(); a += 2) {
+        const double fd = (ratios[a].second - ratios[a + 1].second) / (2 * ratios[a].first);
+        bestRatio = std::min(bestRatio, std::abs(fd - ratioExact));
+    }
+    std::printf("corner ratio: %.10g, directional derivative %.10g, best difference %.2e\n", g.functionals[3].value,
+                ratioExact, bestRatio);
+    EXPECT_LT(bestRatio, 1e-6 * std::abs(ratioExact));
 }
 

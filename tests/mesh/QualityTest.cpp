@@ -306,3 +306,50 @@ TEST(Quality, DISABLED_Timing900kNodes) {
                 std::chrono::duration<double, std::milli>(t2 - t1).count());
     EXPECT_EQ(s.nonPositiveJacobian, 0);
 }
+
+// The optimizer's grid-validity constraint: the smooth minimum of log(corner Jacobian / baseline's)
+// is the exact minimum within log(corners)/rho, 0 for the baseline itself, -inf for a folded
+// cell, and its gradient matches centred differences.
+TEST(Quality, CornerRatioSmoothMinBoundsTheMinimumAndHasItsGradient) {
+    const std::vector<StructuredGrid> base{uniformGrid("a", {4, 3, 3}, 0.5), uniformGrid("b", {3, 3, 2}, 0.25)};
+    const double rho = 20;
+    EXPECT_NEAR(cornerRatioSmoothMin(base, base, rho), -std::log(8.0 * (3 * 2 * 2 + 2 * 2 * 1)) / rho, 1e-14);
+    std::vector<StructuredGrid> moved = base;
+    for (StructuredGrid& g : moved) {
+        for (std::size_t n = 0; n < g.xyz.size(); ++n) g.xyz[n] += 0.03 * std::sin(1.7 * static_cast<double>(n) + 0.3);
+    }
+    std::vector<std::vector<double>> grad;
+    const double ks = cornerRatioSmoothMin(moved, base, rho, &grad);
+    // The exact minimum, from cellQuality-style determinants: KS lies within log(N)/rho below it.
+    double exactMin = 1e300;
+    for (std::size_t b = 0; b < moved.size(); ++b) {
+        const CellQuality q = cellQuality(moved[b]), q0 = cellQuality(base[b]);
+        for (std::size_t c = 0; c < q.minJacobian.size(); ++c) exactMin = std::min(exactMin, std::log(q.minJacobian[c] / q0.minJacobian[c]));
+    }
+    EXPECT_LE(ks, exactMin + 1e-12);
+    EXPECT_GE(ks, exactMin - std::log(8.0 * 16) / rho);
+    ASSERT_EQ(grad.size(), 2u);
+    double exact = 0, fd = 0;
+    const double h = 1e-6;
+    for (std::size_t b = 0; b < moved.size(); ++b) {
+        for (std::size_t n = 0; n < moved[b].xyz.size(); ++n) {
+            const double dir = std::cos(0.9 * static_cast<double>(n + 7 * b));
+            exact += grad[b][n] * dir;
+        }
+    }
+    auto along = [&](double s) {
+        std::vector<StructuredGrid> g = moved;
+        for (std::size_t b = 0; b < g.size(); ++b) {
+            for (std::size_t n = 0; n < g[b].xyz.size(); ++n) g[b].xyz[n] += s * std::cos(0.9 * static_cast<double>(n + 7 * b));
+        }
+        return cornerRatioSmoothMin(g, base, rho);
+    };
+    fd = (along(h) - along(-h)) / (2 * h);
+    EXPECT_NEAR(exact, fd, 1e-7 * std::abs(fd));
+    // Folded: a node pushed through its neighbour.
+    std::vector<StructuredGrid> folded = base;
+    folded[0].at(1, 1, 1)[0] += 0.8;
+    EXPECT_EQ(cornerRatioSmoothMin(folded, base, rho, &grad), -std::numeric_limits<double>::infinity());
+    EXPECT_TRUE(grad.empty());
+    EXPECT_THROW((void)cornerRatioSmoothMin({base[0]}, base, rho), Error);
+}
