@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cli/CliSupport.h"
+#include "cli/SvgPlot.h"
 #include "common/AtomicFile.h"
 #include "common/Format.h"
 #include "common/Memory.h"
@@ -90,61 +91,6 @@ study::Evaluation evaluateOrThrow(study::CaseEvaluator& ev, const std::vector<do
 double functionalOf(const std::string& name, const flow::ForceCoefficients& f) {
     if (name == "CL/CD") return f.CL / f.CD;
     return adjoint::functionalValue(adjoint::functionalByName(name), f);
-}
-
-// A log-log plot of relative error against eps, one polyline per check.
-void writePlot(const std::string& path, const std::vector<std::string>& names,
-               const std::vector<std::vector<std::pair<double, double>>>& series, double tolerance) {
-    const double W = 760, H = 520, L = 80, R = 170, T = 40, B = 60;
-    double xmin = 1e300, xmax = 0, ymin = 1e300, ymax = 0;
-    for (const auto& s : series) {
-        for (const auto& [x, y] : s) {
-            xmin = std::min(xmin, x);
-            xmax = std::max(xmax, x);
-            if (y > 0) {
-                ymin = std::min(ymin, y);
-                ymax = std::max(ymax, y);
-            }
-        }
-    }
-    ymin = std::min(ymin, tolerance);
-    const double lx0 = std::floor(std::log10(xmin)), lx1 = std::ceil(std::log10(xmax));
-    const double ly0 = std::floor(std::log10(ymin)), ly1 = std::max(ly0 + 1, std::ceil(std::log10(ymax)));
-    auto X = [&](double x) { return L + (W - L - R) * (lx1 - std::log10(x)) / std::max(1.0, lx1 - lx0); };  // eps falls to the right
-    auto Y = [&](double y) { return T + (H - T - B) * (ly1 - std::log10(std::max(y, 1e-300))) / (ly1 - ly0); };
-    std::ostringstream s;
-    s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='12'>\n";
-    s << "<rect width='100%' height='100%' fill='white'/>\n";
-    for (double e = lx0; e <= lx1; e += 1) {
-        s << "<line x1='" << X(std::pow(10, e)) << "' y1='" << T << "' x2='" << X(std::pow(10, e)) << "' y2='" << H - B
-          << "' stroke='#ddd'/><text x='" << X(std::pow(10, e)) << "' y='" << H - B + 18 << "' text-anchor='middle'>1e" << e
-          << "</text>\n";
-    }
-    for (double e = ly0; e <= ly1; e += 1) {
-        s << "<line x1='" << L << "' y1='" << Y(std::pow(10, e)) << "' x2='" << W - R << "' y2='" << Y(std::pow(10, e))
-          << "' stroke='#ddd'/><text x='" << L - 6 << "' y='" << Y(std::pow(10, e)) + 4 << "' text-anchor='end'>1e" << e
-          << "</text>\n";
-    }
-    s << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='" << H - T - B
-      << "' fill='none' stroke='black'/>\n";
-    s << "<line x1='" << L << "' y1='" << Y(tolerance) << "' x2='" << W - R << "' y2='" << Y(tolerance)
-      << "' stroke='red' stroke-dasharray='6,4'/><text x='" << W - R + 6 << "' y='" << Y(tolerance) + 4
-      << "' fill='red'>tolerance</text>\n";
-    s << "<text x='" << (W - R + L) / 2 << "' y='" << H - 15 << "' text-anchor='middle'>step eps</text>\n";
-    s << "<text x='20' y='" << (H - B + T) / 2 << "' transform='rotate(-90 20 " << (H - B + T) / 2
-      << ")' text-anchor='middle'>|centred difference - adjoint| / |adjoint|</text>\n";
-    s << "<text x='" << L << "' y='24' font-size='14'>Gradient check: directional derivative, adjoint vs centred differences</text>\n";
-    const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2"};
-    for (std::size_t k = 0; k < series.size(); ++k) {
-        const char* col = colours[k % 7];
-        s << "<polyline fill='none' stroke='" << col << "' stroke-width='2' points='";
-        for (const auto& [x, y] : series[k]) s << X(x) << "," << Y(y) << " ";
-        s << "'/>\n";
-        for (const auto& [x, y] : series[k]) s << "<circle cx='" << X(x) << "' cy='" << Y(y) << "' r='3' fill='" << col << "'/>\n";
-        s << "<text x='" << W - R + 6 << "' y='" << T + 16 + 18 * k << "' fill='" << col << "'>" << names[k] << "</text>\n";
-    }
-    s << "</svg>\n";
-    writeTextAtomically(path, s.str(), "plot file");
 }
 
 }  // namespace
@@ -345,7 +291,16 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
             say(cmd, "wrote " + csvPath);
         }
         if (!plotPath.empty()) {
-            writePlot(plotPath, names, series, tolerance);
+            std::vector<PlotSeries> lines;
+            for (std::size_t k = 0; k < series.size(); ++k) lines.push_back({names[k], series[k]});
+            PlotOptions po;
+            po.title = "Gradient check: directional derivative, adjoint vs centred differences";
+            po.xLabel = "step eps";
+            po.yLabel = "|centred difference - adjoint| / |adjoint|";
+            po.logX = po.logY = po.reverseX = true;
+            po.referenceY = tolerance;
+            po.referenceLabel = "tolerance";
+            writeSvgPlot(plotPath, lines, po);
             say(cmd, "wrote " + plotPath);
         }
         if (json) {

@@ -9,7 +9,10 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 #include "cli/CliSupport.h"
+#include "cli/SvgPlot.h"
 #include "common/Format.h"
 #include "common/Memory.h"
 #include "study/CaseEvaluator.h"
@@ -44,6 +47,34 @@ std::atomic<bool> gCancel{false};
 extern "C" void onOptimizeSignal(int) { gCancel.store(true); }
 
 void say(const std::string& s) { std::fprintf(stderr, "[optimize] %s\n", s.c_str()); }
+
+// The convergence history as the paper's Figures 3b and 4 show it, from the history's records:
+// J against evaluation (log scale for the pressure mismatch), and optimality and feasibility
+// (log) at each major iteration. Returns the files written.
+std::vector<std::string> writeConvergencePlots(const study::OptimizationSummary& s, const std::string& objective) {
+    const std::vector<study::OptimizationRecord> records = study::readHistory(s.historyJsonl);
+    PlotSeries J{objective, {}}, optimality{"optimality", {}}, feasibility{"feasibility", {}};
+    for (const study::OptimizationRecord& r : records) {
+        if (r.kind == study::OptimizationRecord::Kind::Values && r.ok) J.points.emplace_back(r.index, r.J);
+        if (r.kind == study::OptimizationRecord::Kind::Iteration) {
+            optimality.points.emplace_back(r.evaluations, r.optimality);
+            feasibility.points.emplace_back(r.evaluations, r.feasibility);
+        }
+    }
+    const std::filesystem::path stem = std::filesystem::path(s.historyCsv).replace_extension();
+    const std::string objectivePlot = stem.string() + "_objective.svg", optimalityPlot = stem.string() + "_optimality.svg";
+    PlotOptions o;
+    o.title = "Objective " + objective + " of every converged evaluation";
+    o.xLabel = "evaluation";
+    o.yLabel = objective;
+    o.logY = objective == "pressure";
+    writeSvgPlot(objectivePlot, {J}, o);
+    o.title = "First-order optimality and feasibility at the major iterations";
+    o.yLabel = "optimality, largest constraint violation";
+    o.logY = true;
+    writeSvgPlot(optimalityPlot, {optimality, feasibility}, o);
+    return {objectivePlot, optimalityPlot};
+}
 
 }  // namespace
 
@@ -123,6 +154,8 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
         }
         say("history: " + s.historyCsv + ", " + s.iterationsCsv + " (exact records: " + s.historyJsonl + ")");
         say("best shape: " + s.finalGeometry + (c.outputGeometry.empty() ? "" : " and " + c.outputGeometry));
+        const std::vector<std::string> plots = writeConvergencePlots(s, c.optimization.objective);
+        say("convergence plots: " + plots[0] + ", " + plots[1]);
         say(format("%.1f s, peak memory %.0f MB", s.seconds, peakMemoryMb()));
         if (r.status == optimize::Status::Cancelled) say("stopped; continue with: aeroform-cli optimize " + casePath + " --resume");
         if (json) {

@@ -70,6 +70,7 @@ Json toJson(const OptimizationRecord& r) {
             j["optimizer"] = r.optimizer;
             j["objective"] = r.objectiveName;
             j["variables"] = r.names;
+            j["constraints"] = r.constraintNames;
             break;
         case Kind::Values:
             j["evaluation"] = r.index;
@@ -124,6 +125,7 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.optimizer = j.at("optimizer").get<std::string>();
             r.objectiveName = j.at("objective").get<std::string>();
             r.names = j.at("variables").get<std::vector<std::string>>();
+            if (j.contains("constraints")) r.constraintNames = j["constraints"].get<std::vector<std::string>>();
             break;
         case Kind::Values:
             r.index = j.at("evaluation").get<int>();
@@ -445,6 +447,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     header.optimizer = oc.optimizer;
     header.objectiveName = oc.objective;
     header.names = summary.names;
+    for (const optimize::ConstraintSpec& k : p.nonlinear) header.constraintNames.push_back(k.name);
     std::deque<OptimizationRecord> replay;
     std::vector<OptimizationRecord> kept;  // the records of the file, as they stay
     int recordedIterations = -1;
@@ -458,11 +461,19 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             throw InputError("'" + summary.historyJsonl + "' does not start with a history header");
         }
         const OptimizationRecord& h = kept.front();
-        if (h.names != header.names || h.optimizer != header.optimizer || h.objectiveName != header.objectiveName) {
+        auto list = [](const std::vector<std::string>& v) {
+            std::string s;
+            for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+            return s.empty() ? std::string("none") : s;
+        };
+        if (h.names != header.names || h.optimizer != header.optimizer || h.objectiveName != header.objectiveName ||
+            h.constraintNames != header.constraintNames) {
             throw InputError("'" + summary.historyJsonl + "' was written for another problem (optimizer " + h.optimizer +
                              ", objective " + h.objectiveName + ", " + std::to_string(h.names.size()) +
-                             " variables); the case now has optimizer " + header.optimizer + ", objective " +
-                             header.objectiveName + ", " + std::to_string(header.names.size()) + " variables");
+                             " variables, constraints: " + list(h.constraintNames) + "); the case now has optimizer " +
+                             header.optimizer + ", objective " + header.objectiveName + ", " +
+                             std::to_string(header.names.size()) + " variables, constraints: " + list(header.constraintNames) +
+                             " (start over with --fresh)");
         }
         for (const OptimizationRecord& r : kept) {
             if (r.kind == Kind::Values || r.kind == Kind::Gradient) replay.push_back(r);

@@ -52,6 +52,7 @@ struct OptimizationRecord {
     double optimality = 0, feasibility = 0;
     // Header: what the history belongs to (checked on resume).
     std::vector<std::string> names;  // the optimizer's variables
+    std::vector<std::string> constraintNames;  // its nonlinear constraints
     std::string optimizer, objectiveName;
     bool replayed = false;           // read back on --resume, not run again
 };
