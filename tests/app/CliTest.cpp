@@ -523,6 +523,8 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
     EXPECT_GE(a["volume"].get<double>(), a["start_volume"].get<double>() * (1 - 1e-6));
     EXPECT_TRUE(std::filesystem::exists(tmp("opt_whole/history_best.igs")));
     EXPECT_TRUE(std::filesystem::exists(tmp("opt_whole/iterations/iteration_003.igs")));
+    EXPECT_NE(slurp(tmp("opt_whole/history_optimality.svg")).find("<polyline"), std::string::npos);
+    EXPECT_NE(slurp(tmp("opt_whole/history_objective.svg")).find("<polyline"), std::string::npos);
     EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find("values,1,ok,"), std::string::npos);
     const auto wholeRecords = historyRecords(tmp("opt_whole/history.jsonl"));
 
