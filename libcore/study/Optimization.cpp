@@ -257,8 +257,8 @@ public:
 
 private:
     std::string evaluationHeader() const {
-        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,alpha_deg,flow_iterations,adjoint_iterations,"
-                        "seconds,message";
+        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,smallest_corner_ratio,alpha_deg,flow_iterations,"
+                        "adjoint_iterations,seconds,message";
         for (const std::string& n : names_) h += "," + n;
         return h + "\n";
     }
@@ -271,11 +271,12 @@ private:
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
                  csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
                  csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
-                 csvNumber(r.alphaDeg) + "," + std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
+                 csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
+                 std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
                  csvText(r.message);
         } else {
-            // status, then objective .. flow_iterations empty (9 fields), then adjoint_iterations.
-            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
+            // status, then objective .. flow_iterations empty (10 fields), then adjoint_iterations.
+            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
                  csvNumber(r.seconds) + "," + csvText(r.message);
         }
         for (double u : r.x) s += "," + csvNumber(u);
