@@ -116,11 +116,11 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
             if (r.kind == study::OptimizationRecord::Kind::Values) {
                 if (r.ok) {
                     const std::string grid = r.cornerRatio != 0 ? format(", smallest cell corner %.3g of its baseline", std::exp(r.cornerRatio)) : "";
-                    say(format("evaluation %.0f: %s %.8g, CL %.6f, CD %.6f, volume %.6f, alpha %.4g%s, %.0f flow iterations%s, "
-                               "%.1f s%s",
+                    say(format("evaluation %.0f: %s %.8g, CL %.6f, CD %.6f, volume %.6f, alpha %.4g%s, max Mach %.3f, %.0f flow "
+                               "iterations%s, %.1f s%s",
                                static_cast<double>(r.index), c.optimization.objective.c_str(), r.J, r.CL, r.CD, r.volume,
-                               r.alphaDeg, grid.c_str(), static_cast<double>(r.flowIterations), r.warmFrom ? " (warm)" : "",
-                               r.seconds, tag));
+                               r.alphaDeg, grid.c_str(), r.maxMach, static_cast<double>(r.flowIterations),
+                               r.warmFrom ? " (warm)" : "", r.seconds, tag));
                 } else {
                     say(format("evaluation %.0f failed (%s): %s%s", static_cast<double>(r.index), r.status.c_str(),
                                r.message.c_str(), tag));

@@ -86,6 +86,8 @@ Json toJson(const OptimizationRecord& r) {
             j["CM"] = number(r.CM);
             j["volume"] = number(r.volume);
             j["corner_ratio"] = number(r.cornerRatio);
+            j["max_mach"] = number(r.maxMach);
+            j["max_entropy"] = number(r.maxEntropy);
             j["alpha"] = number(r.alphaDeg);
             j["flow_iterations"] = r.flowIterations;
             j["warm_from"] = r.warmFrom;
@@ -141,6 +143,8 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.CM = number(j.at("CM"));
             r.volume = number(j.at("volume"));
             if (j.contains("corner_ratio")) r.cornerRatio = number(j["corner_ratio"]);
+            if (j.contains("max_mach")) r.maxMach = number(j["max_mach"]);
+            if (j.contains("max_entropy")) r.maxEntropy = number(j["max_entropy"]);
             r.alphaDeg = number(j.at("alpha"));
             r.flowIterations = j.at("flow_iterations").get<int>();
             r.warmFrom = j.at("warm_from").get<int>();
@@ -257,8 +261,8 @@ public:
 
 private:
     std::string evaluationHeader() const {
-        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,smallest_corner_ratio,alpha_deg,flow_iterations,"
-                        "adjoint_iterations,seconds,message";
+        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,smallest_corner_ratio,max_mach,max_entropy,"
+                        "alpha_deg,flow_iterations,adjoint_iterations,seconds,message";
         for (const std::string& n : names_) h += "," + n;
         return h + "\n";
     }
@@ -271,12 +275,13 @@ private:
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
                  csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
                  csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
-                 csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
+                 csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," + csvNumber(r.ok ? r.maxMach : kNaN) + "," +
+                 csvNumber(r.ok ? r.maxEntropy : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
                  std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
                  csvText(r.message);
         } else {
-            // status, then objective .. flow_iterations empty (10 fields), then adjoint_iterations.
-            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
+            // status, then objective .. flow_iterations empty (12 fields), then adjoint_iterations.
+            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
                  csvNumber(r.seconds) + "," + csvText(r.message);
         }
         for (double u : r.x) s += "," + csvNumber(u);
@@ -599,6 +604,8 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             r.CL = f.CL;
             r.CD = f.CD;
             r.CM = f.CM;
+            r.maxMach = e->flow->maxMach.value;
+            r.maxEntropy = std::abs(e->flow->maxEntropy.value);
             r.objective = sign * r.J;
             if (volumeConstraint) r.constraints.push_back(r.volume / summary.startVolume);
             if (oc.liftConstraint) r.constraints.push_back(f.CL);
