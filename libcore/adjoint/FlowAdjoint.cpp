@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/Error.h"
+#include "common/Format.h"
 #include "flow/FlowSolver.h"
 #include "flow/Gmres.h"
 #include "flow/Jacobian.h"
@@ -82,9 +83,8 @@ LinearSolveReport FlowLinearization::solve(bool transpose, const std::vector<dou
     if (rep.relativeResidual <= 10 * opt_.tolerance) {
         rep.status = LinearStatus::Converged;
     } else {
-        rep.message = std::string(transpose ? "adjoint" : "tangent") + " GMRES reached a relative residual of " +
-                      std::to_string(rep.relativeResidual) + " in " + std::to_string(g.iterations) +
-                      " iterations (tolerance " + std::to_string(opt_.tolerance) + ")";
+        rep.message = format("%s GMRES reached a relative residual of %.3g in %d iterations (tolerance %.3g)",
+                             transpose ? "adjoint" : "tangent", rep.relativeResidual, g.iterations, opt_.tolerance);
     }
     rep.seconds = since(t0);
     return rep;
