@@ -565,7 +565,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             }
             record(r);
             out.ok = r.ok;
-            out.message = r.message;
+            out.message = r.ok ? std::string() : r.status + ": " + r.message;  // as when it was run
             out.objective = r.objective;
             out.constraints = r.constraints;
             return out;
