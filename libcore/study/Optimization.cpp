@@ -499,11 +499,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     }
     fs::create_directories(stateDir);
     // The file as it stays (a cut last line dropped), then appended to.
-    {
+    auto rewriteHistory = [&] {
         std::string text;
         for (const OptimizationRecord& r : kept) text += toJson(r).dump() + "\n";
         writeTextAtomically(summary.historyJsonl, text, "optimization history");
-    }
+    };
+    rewriteHistory();
     csv.rewrite(kept);
     if (!oc.iterations.empty()) fs::create_directories(oc.iterations);
 
@@ -529,9 +530,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 " records after it are discarded and solved anew");
             std::vector<OptimizationRecord> prefix(kept.begin(), kept.end() - static_cast<long>(replay.size()));
             kept = prefix;
-            std::string text;
-            for (const OptimizationRecord& r : kept) text += toJson(r).dump() + "\n";
-            writeTextAtomically(summary.historyJsonl, text, "optimization history");
+            rewriteHistory();
             csv.rewrite(kept);
             replay.clear();
         }
@@ -709,14 +708,15 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         return out;
     };
 
+    // The shape stage alone at u, written as <stem>.igs and <stem>.vtm; returns the shape.
     auto writeShape = [&](const std::vector<double>& u, const std::string& stem) {
         EvaluationRequest req;
         req.mesh = false;
         req.flow = false;
-        const Evaluation e = ev.evaluate(design(u), req);
+        Evaluation e = ev.evaluate(design(u), req);
         saveGeometry(e.shape, stem + ".igs");
         io::writeVtm(stem + ".vtm", io::geometryBlocks(e.shape, &ev.baseline(), e.lattices, nullptr));
-        return stem + ".igs";
+        return std::move(e.shape);
     };
 
     optimize::Settings s;
@@ -767,13 +767,10 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (summary.warmStarts > 0) summary.meanWarmFlowIterations /= summary.warmStarts;
     {
         fs::path stem(summary.historyCsv);
-        summary.finalGeometry = writeShape(best, (stem.parent_path() / (stem.stem().string() + "_best")).string());
-        if (!c.outputGeometry.empty()) {
-            EvaluationRequest req;
-            req.mesh = false;
-            req.flow = false;
-            saveGeometry(ev.evaluate(summary.values, req).shape, c.outputGeometry);
-        }
+        const std::string bestStem = (stem.parent_path() / (stem.stem().string() + "_best")).string();
+        const geometry::PatchSet shape = writeShape(best, bestStem);
+        summary.finalGeometry = bestStem + ".igs";
+        if (!c.outputGeometry.empty()) saveGeometry(shape, c.outputGeometry);
     }
     summary.seconds = since(t0);
     return summary;
