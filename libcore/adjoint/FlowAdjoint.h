@@ -13,6 +13,7 @@
 #include "flow/BlockIlu.h"
 #include "flow/BlockSparse.h"
 #include "flow/FlowMesh.h"
+#include "flow/Gmres.h"
 #include "flow/Residual.h"
 
 namespace aero::adjoint {
@@ -20,6 +21,7 @@ namespace aero::adjoint {
 struct AdjointOptions {
     double tolerance = 1e-10;   // GMRES relative residual ||b - A x|| / ||b||
     int gmresRestart = 60;
+    int gmresDeflation = 0;     // harmonic Ritz vectors kept over a restart (GMRES-DR)
     int maxIterations = 3000;   // matrix products in all
     double cfl = 1e6;           // of the preconditioner's pseudo-time diagonal (the adjoint itself
                                 // is steady: only the preconditioner sees it)
@@ -60,6 +62,7 @@ private:
     AdjointOptions opt_;
     flow::BlockSparseMatrix J_, P_;
     flow::BlockIlu ilu_;
+    mutable flow::GmresWorkspace krylov_;  // one solve at a time per linearization
     double secondsAssembly_ = 0;
 };
 
@@ -73,10 +76,8 @@ AdjointSolution solveAdjoint(const FlowLinearization& lin, Functional f, const f
                              const std::vector<double>& metrics, const std::vector<double>& x,
                              const std::vector<double>& q, const flow::FreeStream& fs, const flow::ForceReference& ref);
 
-/// dJ/dalpha (per degree) through the flow: dJ/dalpha|_q + psi^T dR/dalpha|_q. The residual's
-/// alpha derivative (through the farfield state) is a central difference of the residual at
-/// fixed q (step 1e-4 degree; its error is O(1e-8) of dR/dalpha, far below what the check
-/// against converged solves resolves); an exact one needs a complex free stream (not yet).
+/// dJ/dalpha (per degree) through the flow: dJ/dalpha|_q + psi^T dR/dalpha|_q, the residual's
+/// derivative exact (flow::alphaDerivative: complex step in the farfield's free-stream state).
 double alphaDerivative(const AdjointSolution& a, const flow::FlowMesh& fm, const std::vector<double>& metrics,
                        const std::vector<double>& q, const flow::ResidualOptions& o,
                        const flow::ForceCoefficients& forces);

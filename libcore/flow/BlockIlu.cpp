@@ -120,6 +120,23 @@ void BlockIlu::analyze(const BlockSparseMatrix& A, int fill) {
             source_[lu_.find(position_[r], position_[A.cols[b]])] = b;
         }
     }
+    // The column structure for the transposed solve: for every row i, the blocks (j, i), j != i,
+    // in increasing j (a counting sort over the blocks in row order keeps j increasing).
+    colStart_.assign(n + 1, 0);
+    for (long b = 0; b < lu_.blockCount(); ++b) ++colStart_[lu_.cols[b] + 1];
+    for (long i = 0; i < n; ++i) colStart_[i + 1] += colStart_[i];
+    colBlocks_.resize(lu_.blockCount());
+    colRows_.resize(lu_.blockCount());
+    {
+        std::vector<long> next(colStart_.begin(), colStart_.end() - 1);
+        for (long r = 0; r < n; ++r) {
+            for (long b = lu_.rowStart[r]; b < lu_.rowStart[r + 1]; ++b) {
+                const long at = next[lu_.cols[b]]++;
+                colBlocks_[at] = b;
+                colRows_[at] = r;
+            }
+        }
+    }
     analyzedRows_ = n;
     analyzedBlocks_ = A.blockCount();
     fill_ = fill;
@@ -300,37 +317,44 @@ void BlockIlu::solve(const double* b, double* x) const {
 }
 
 template <class V>
-void BlockIlu::transposeSweeps(const V* vals, double* x) const {
-    // P A P^T = L U, so A^T = P^T U^T L^T P: U^T y = x (forward, U^T lower with diagonal blocks
-    // U_ii^T), then L^T z = y (backward, unit upper). Column-oriented: once y_i is known, its
-    // contribution U_ij^T y_i is scattered to the later rows j; likewise L_ik^T z_i to rows k < i.
-    const long n = lu_.rows;
-    const long* cols = lu_.cols.data();
-    for (long i = 0; i < n; ++i) {
+void BlockIlu::transposeForwardRows(const V* vals, long first, long last, double* x) const {
+    // P A P^T = L U, so A^T = P^T U^T L^T P. U^T y = x forward: row i of U^T is column i of U,
+    // the blocks U_ji (j < i), gathered in increasing j; then y_i = U_ii^-T (x_i - sum).
+    for (long i = first; i < last; ++i) {
         double* xi = x + kBlock * i;
-        double y[kBlock];
+        for (long e = colStart_[i]; e < colStart_[i + 1]; ++e) {
+            const long j = colRows_[e];
+            if (j >= i) break;
+            const V* a = vals + kBlockSize * colBlocks_[e];
+            const double* yj = x + kBlock * j;
+            for (int w = 0; w < kBlock; ++w) {
+                double s = 0;
+                for (int v = 0; v < kBlock; ++v) s += a[kBlock * v + w] * yj[v];  // U_ji^T y_j
+                xi[w] -= s;
+            }
+        }
         const double* dinv = &dinv_[kBlockSize * static_cast<std::size_t>(i)];
+        double y[kBlock];
         for (int v = 0; v < kBlock; ++v) {
             double s = 0;
             for (int w = 0; w < kBlock; ++w) s += dinv[kBlock * w + v] * xi[w];  // (U_ii^-1)^T
             y[v] = s;
         }
         for (int v = 0; v < kBlock; ++v) xi[v] = y[v];
-        for (long c = diag_[i] + 1; c < lu_.rowStart[i + 1]; ++c) {
-            const V* a = vals + kBlockSize * c;
-            double* xj = x + kBlock * cols[c];
-            for (int w = 0; w < kBlock; ++w) {
-                double s = 0;
-                for (int v = 0; v < kBlock; ++v) s += a[kBlock * v + w] * y[v];  // U_ij^T y_i
-                xj[w] -= s;
-            }
-        }
     }
-    for (long i = n - 1; i >= 0; --i) {
-        const double* zi = x + kBlock * i;
-        for (long c = lu_.rowStart[i]; c < diag_[i]; ++c) {
-            const V* a = vals + kBlockSize * c;
-            double* xk = x + kBlock * cols[c];
+}
+
+template <class V>
+void BlockIlu::transposeBackwardRows(const V* vals, long first, long last, double* x) const {
+    // L^T z = y backward: row k of L^T is column k of L, the blocks L_ik (i > k), gathered in
+    // decreasing i (the order in which the column-oriented sweep used to scatter them).
+    for (long k = last - 1; k >= first; --k) {
+        double* xk = x + kBlock * k;
+        for (long e = colStart_[k + 1] - 1; e >= colStart_[k]; --e) {
+            const long i = colRows_[e];
+            if (i <= k) break;
+            const V* a = vals + kBlockSize * colBlocks_[e];
+            const double* zi = x + kBlock * i;
             for (int w = 0; w < kBlock; ++w) {
                 double s = 0;
                 for (int v = 0; v < kBlock; ++v) s += a[kBlock * v + w] * zi[v];  // L_ik^T z_i
@@ -341,20 +365,52 @@ void BlockIlu::transposeSweeps(const V* vals, double* x) const {
 }
 
 void BlockIlu::solveTranspose(const double* b, double* x) const {
+    // Mirrors solve(): the rows of part p meet only rows of part p (and the separator, which comes
+    // last) in L and U, so U^T's forward sweep runs the parts in parallel and then the
+    // separator; L^T's backward sweep the separator first, then the parts. The same arithmetic
+    // in the same order on any number of threads.
     const long n = lu_.rows;
+    const int P = ordering_.parts();
+    const std::vector<long>& start = ordering_.partStart;
     const long* order = ordering_.order.data();
     work_.resize(kBlock * static_cast<std::size_t>(n));
     double* w = work_.data();
-    for (long i = 0; i < n; ++i) {
-        for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
-    }
-    if (single_) {
-        transposeSweeps(values_.data(), w);
-    } else {
-        transposeSweeps(valuesDouble_.data(), w);
-    }
-    for (long i = 0; i < n; ++i) {
-        for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];
+#pragma omp parallel if (P > 1)
+    {
+#pragma omp for schedule(static)
+        for (long i = 0; i < n; ++i) {
+            for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int p = 0; p < P; ++p) {
+            if (single_) {
+                transposeForwardRows(values_.data(), start[p], start[p + 1], w);
+            } else {
+                transposeForwardRows(valuesDouble_.data(), start[p], start[p + 1], w);
+            }
+        }
+#pragma omp single
+        {
+            if (single_) {
+                transposeForwardRows(values_.data(), start[P], start[P + 1], w);
+                transposeBackwardRows(values_.data(), start[P], start[P + 1], w);
+            } else {
+                transposeForwardRows(valuesDouble_.data(), start[P], start[P + 1], w);
+                transposeBackwardRows(valuesDouble_.data(), start[P], start[P + 1], w);
+            }
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int p = 0; p < P; ++p) {
+            if (single_) {
+                transposeBackwardRows(values_.data(), start[p], start[p + 1], w);
+            } else {
+                transposeBackwardRows(valuesDouble_.data(), start[p], start[p + 1], w);
+            }
+        }
+#pragma omp for schedule(static)
+        for (long i = 0; i < n; ++i) {
+            for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];
+        }
     }
 }
 

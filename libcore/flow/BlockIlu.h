@@ -50,7 +50,8 @@ public:
     /// parts. Uses a work vector of the object: not for concurrent calls on one BlockIlu.
     void solve(const double* b, double* x) const;
     /// x = ((L U)^T)^-1 b: the transposed preconditioner (the adjoint's, for GMRES on J^T).
-    /// Sequential (a column-oriented sweep over the factors); the same work vector as solve().
+    /// Parallel over the parts like solve() (row-oriented sweeps over the factors' columns);
+    /// the same work vector as solve().
     void solveTranspose(const double* b, double* x) const;
     const std::string& message() const { return message_; }
     long storedBlocks() const { return lu_.blockCount(); }
@@ -64,7 +65,9 @@ private:
     template <class V>
     void backwardRows(const V* vals, long first, long last, double* x) const;
     template <class V>
-    void transposeSweeps(const V* vals, double* x) const;
+    void transposeForwardRows(const V* vals, long first, long last, double* x) const;
+    template <class V>
+    void transposeBackwardRows(const V* vals, long first, long last, double* x) const;
 
     IluOrdering ordering_;
     std::vector<long> position_;  // position_[original row] = new row
@@ -78,6 +81,9 @@ private:
     std::vector<long> diag_;     // index of each row's diagonal block
     std::vector<double> dinv_;   // inverted diagonal blocks of U (double)
     std::vector<long> source_;   // for each block of lu_, the block of A it starts from (-1: fill)
+    std::vector<long> colStart_, colBlocks_, colRows_;  // lu_ by columns: for row i, the blocks
+                                 // (j, i) at colBlocks_[colStart_[i] .. colStart_[i+1]), j increasing
+                                 // (colRows_ = j), for the transposed solve
     long analyzedRows_ = -1, analyzedBlocks_ = -1;
     int fill_ = -1;
     std::string message_;

@@ -31,7 +31,36 @@ void BlockSparseMatrix::mult(const double* x, double* y) const {
     }
 }
 
+bool BlockSparseMatrix::prepareTranspose() {
+    std::vector<long> t(cols.size());
+    for (long r = 0; r < rows; ++r) {
+        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
+            t[b] = find(cols[b], r);
+            if (t[b] < 0) return false;
+        }
+    }
+    transposeBlock = std::move(t);
+    return true;
+}
+
 void BlockSparseMatrix::multTranspose(const double* x, double* y) const {
+    if (static_cast<long>(transposeBlock.size()) == blockCount()) {
+        // y_c = sum over the rows r of column c (= the columns of row c) of A_rc^T x_r, in
+        // increasing r: the order in which the sequential scatter below adds them.
+#pragma omp parallel for schedule(static)
+        for (long c = 0; c < rows; ++c) {
+            double acc[kBlock] = {};
+            for (long e = rowStart[c]; e < rowStart[c + 1]; ++e) {
+                const double* a = &values[kBlockSize * transposeBlock[e]];
+                const double* xr = x + kBlock * cols[e];
+                for (int v = 0; v < kBlock; ++v) {
+                    for (int w = 0; w < kBlock; ++w) acc[w] += a[kBlock * v + w] * xr[v];
+                }
+            }
+            for (int w = 0; w < kBlock; ++w) y[kBlock * c + w] = acc[w];
+        }
+        return;
+    }
     std::fill(y, y + kBlock * rows, 0.0);
     for (long r = 0; r < rows; ++r) {
         const double* xr = x + kBlock * r;

@@ -24,8 +24,15 @@ struct BlockSparseMatrix {
 
     /// y = A x (x, y: 5 * rows; y is overwritten). OpenMP over rows.
     void mult(const double* x, double* y) const;
-    /// y = A^T x (for the adjoint).
+    /// y = A^T x (for the adjoint). Parallel over rows once prepareTranspose() has run (the
+    /// same sums in the same order as the sequential product, so bitwise the same result).
     void multTranspose(const double* x, double* y) const;
+    /// Indexes, for every stored block (r, c), the block (c, r), so that multTranspose gathers
+    /// rows in parallel. Needs a structurally symmetric pattern (the flow Jacobian's: stencils
+    /// and interface pairs are symmetric); returns false, and changes nothing, otherwise. Call
+    /// again after the pattern changes.
+    bool prepareTranspose();
+    std::vector<long> transposeBlock;  // from prepareTranspose (empty: sequential multTranspose)
     /// A += diag(d_r I5) (d: one value per block row; every diagonal block must be stored).
     void addDiagonal(const double* d);
 };

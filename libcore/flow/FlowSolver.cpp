@@ -135,7 +135,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     if (opt.preconditionerParts > 1) {
         ilu.setOrdering(partitionOrdering(P, blockGroups(fm, opt.preconditionerParts), opt.preconditionerParts));
     }
-    JacobianProduct jp(fm, metrics, o);
+    JacobianProduct jp(fm, metrics, o, opt.products);
     bool exact = false;
     const LinearMap A = [&](const double* in, double* out) {
         if (!exact) {
@@ -150,7 +150,8 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
     // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
     const GmresOptions go{opt.gmresRestart, opt.gmresMaxIterations, opt.linearTolerance,
-                          opt.linearFailure};
+                          opt.linearFailure, opt.gmresDeflation};
+    GmresWorkspace krylov;  // kept over the iterations (60 vectors of 5 N values)
 
     double Rn = Rstart, best = Rstart, cflBase = opt.cfl0;
     rep.cflBase = cflBase;
@@ -185,10 +186,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                 why = ilu.message();
                 return false;
             }
-            if (exact) jp.setState(q.data());
+            if (exact) jp.setState(q.data(), r.data());
             for (long i = 0; i < n; ++i) rhs[i] = -r[i];
             std::fill(dq.begin(), dq.end(), 0.0);
-            const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go);
+            const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go, &krylov);
             rep.linearIterations += g.iterations;
             rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, exact, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "flow/FlowMesh.h"
+#include "flow/Jacobian.h"
 #include "flow/Residual.h"
 
 namespace aero::flow {
@@ -37,6 +38,10 @@ struct NewtonOptions {
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
     int gmresRestart = 60;
     int gmresMaxIterations = 180;      // per nonlinear iteration (3 restart cycles)
+    int gmresDeflation = 0;            // harmonic Ritz vectors kept over a restart (GMRES-DR)
+    ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
+                                       // products: a real residual's difference (3.5x cheaper than
+                                       // a complex one; Jacobian.h) or complex step
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
     double smallStep = 0.1;            // a step scaled below this backs the CFL base off too
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||

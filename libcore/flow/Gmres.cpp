@@ -1,124 +1,323 @@
 #include "flow/Gmres.h"
 
+#include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
-#include <vector>
+#include <complex>
+#include <numeric>
 
 namespace aero::flow {
 
 namespace {
 
-double dot(long n, const double* a, const double* b) {
+// Sums over long vectors are taken in fixed chunks of rows, the chunk sums added in chunk order
+// by one thread: the same bits on any number of threads and in every run (an optimization that is
+// resumed replays its history and must see the same iterates).
+constexpr long kChunk = 2048;
+
+long chunkCount(long n) { return (n + kChunk - 1) / kChunk; }
+
+// partial[c * k + i] for chunk c -> out[i] (i < k), in chunk order.
+void sumChunks(const std::vector<double>& partial, long chunks, int k, double* out) {
+    for (int i = 0; i < k; ++i) out[i] = 0;
+    for (long c = 0; c < chunks; ++c) {
+        for (int i = 0; i < k; ++i) out[i] += partial[static_cast<std::size_t>(c * k + i)];
+    }
+}
+
+double dot(long n, const double* a, const double* b, std::vector<double>& partial) {
+    const long chunks = chunkCount(n);
+    partial.assign(chunks, 0.0);
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunks; ++c) {
+        const long end = std::min(n, (c + 1) * kChunk);
+        double s = 0;
+        for (long l = c * kChunk; l < end; ++l) s += a[l] * b[l];
+        partial[c] = s;
+    }
     double s = 0;
-#pragma omp parallel for reduction(+ : s) schedule(static)
-    for (long i = 0; i < n; ++i) s += a[i] * b[i];
+    sumChunks(partial, chunks, 1, &s);
     return s;
+}
+
+// One classical Gram-Schmidt pass, twice (CGS2): h[i] += V_i . w, then w -= sum_i h_i V_i, for
+// the k vectors V[0..k). Returns ||w|| after the second pass.
+double orthogonalize(long n, const std::vector<double*>& V, int k, double* w, double* h,
+                     std::vector<double>& partial) {
+    const long chunks = chunkCount(n);
+    const int width = k + 1;  // k dot products and the squared norm
+    partial.assign(static_cast<std::size_t>(chunks * width), 0.0);
+    std::vector<double> g(width), total(k, 0.0);
+    // Pass 1: the dot products only.
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunks; ++c) {
+        const long first = c * kChunk, end = std::min(n, first + kChunk);
+        for (int i = 0; i < k; ++i) {
+            const double* v = V[i];
+            double s = 0;
+            for (long l = first; l < end; ++l) s += v[l] * w[l];
+            partial[static_cast<std::size_t>(c * width + i)] = s;
+        }
+    }
+    sumChunks(partial, chunks, width, g.data());
+    for (int pass = 0; pass < 2; ++pass) {
+        for (int i = 0; i < k; ++i) total[i] += g[i];
+        // Subtract this pass's projection, then take the next pass's dot products (or, after
+        // the second pass, the norm) while the chunk is in cache.
+#pragma omp parallel for schedule(static)
+        for (long c = 0; c < chunks; ++c) {
+            const long first = c * kChunk, end = std::min(n, first + kChunk);
+            for (int i = 0; i < k; ++i) {
+                const double* v = V[i];
+                const double gi = g[i];
+                for (long l = first; l < end; ++l) w[l] -= gi * v[l];
+            }
+            if (pass == 0) {
+                for (int i = 0; i < k; ++i) {
+                    const double* v = V[i];
+                    double s = 0;
+                    for (long l = first; l < end; ++l) s += v[l] * w[l];
+                    partial[static_cast<std::size_t>(c * width + i)] = s;
+                }
+            } else {
+                double s = 0;
+                for (long l = first; l < end; ++l) s += w[l] * w[l];
+                partial[static_cast<std::size_t>(c * width + k)] = s;
+            }
+        }
+        sumChunks(partial, chunks, width, g.data());
+    }
+    for (int i = 0; i < k; ++i) h[i] = total[i];
+    return std::sqrt(g[k]);
+}
+
+void scale(long n, double* v, double a) {
+#pragma omp parallel for schedule(static)
+    for (long l = 0; l < n; ++l) v[l] *= a;
+}
+
+// out = sum_i coef[i] V_i over the first `count` vectors (out may not alias a V_i).
+void combine(long n, const std::vector<double*>& V, int count, const double* coef, double* out) {
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunkCount(n); ++c) {
+        const long first = c * kChunk, end = std::min(n, first + kChunk);
+        for (long l = first; l < end; ++l) out[l] = 0;
+        for (int i = 0; i < count; ++i) {
+            const double* v = V[i];
+            const double a = coef[i];
+            for (long l = first; l < end; ++l) out[l] += a * v[l];
+        }
+    }
+}
+
+// The harmonic Ritz vectors of the `want` harmonic Ritz values of smallest modulus of the
+// (m+1) x m Arnoldi matrix Hbar, as real columns (a complex pair as its real and imaginary parts,
+// kept together), m rows each. Empty when H_m is singular.
+Eigen::MatrixXd harmonicRitzVectors(const Eigen::MatrixXd& Hbar, int m, int want) {
+    const Eigen::MatrixXd Hm = Hbar.topLeftCorner(m, m);
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu(Hm.transpose());
+    if (!(std::abs(lu.determinant()) > 0)) return {};
+    // Harmonic Ritz pairs: (H_m + H_m^-T r^T r) g = theta g, r the last row of Hbar.
+    const Eigen::RowVectorXd r = Hbar.row(m);
+    const Eigen::VectorXd f = lu.solve(r.transpose());
+    const Eigen::MatrixXd G = Hm + f * r;
+    Eigen::EigenSolver<Eigen::MatrixXd> es(G);
+    if (es.info() != Eigen::Success) return {};
+    const Eigen::VectorXcd theta = es.eigenvalues();
+    std::vector<int> idx(m);
+    std::iota(idx.begin(), idx.end(), 0);
+    std::stable_sort(idx.begin(), idx.end(), [&](int a, int b) { return std::abs(theta[a]) < std::abs(theta[b]); });
+    std::vector<Eigen::VectorXd> cols;
+    std::vector<bool> used(m, false);
+    for (int t = 0; t < m && static_cast<int>(cols.size()) < want; ++t) {
+        const int i = idx[t];
+        if (used[i]) continue;
+        used[i] = true;
+        const Eigen::VectorXcd g = es.eigenvectors().col(i);
+        if (std::abs(theta[i].imag()) <= 1e-14 * std::abs(theta[i])) {
+            cols.push_back(g.real());
+            continue;
+        }
+        // A complex pair: both parts, or neither when they do not fit.
+        if (static_cast<int>(cols.size()) + 2 > want) break;
+        for (int u = 0; u < m; ++u) {
+            if (!used[u] && std::abs(theta[u] - std::conj(theta[i])) <= 1e-12 * std::abs(theta[i])) {
+                used[u] = true;
+                break;
+            }
+        }
+        cols.push_back(g.real());
+        cols.push_back(g.imag());
+    }
+    Eigen::MatrixXd P(m, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t c = 0; c < cols.size(); ++c) P.col(static_cast<Eigen::Index>(c)) = cols[c];
+    return P;
 }
 
 }  // namespace
 
+void GmresWorkspace::reserve(long n, int vectors) {
+    if (n != n_) {
+        basis_.clear();
+        n_ = n;
+    }
+    while (static_cast<int>(basis_.size()) < vectors) basis_.emplace_back(static_cast<std::size_t>(n));
+}
+
 GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* b, double* x,
-                  const GmresOptions& o) {
+                  const GmresOptions& o, GmresWorkspace* workspace) {
     GmresReport rep;
     const int m = std::max(1, o.restart);
-    const double bnorm = std::sqrt(dot(n, b, b));
+    const int deflation = std::clamp(o.deflation, 0, std::max(0, m - 2));
+    std::vector<double> partial;
+    const double bnorm = std::sqrt(dot(n, b, b, partial));
     if (bnorm == 0) {
         std::fill(x, x + n, 0.0);
         rep.relativeResidual = 0;
         rep.converged = true;
         return rep;
     }
-    std::vector<std::vector<double>> V(m + 1, std::vector<double>(n));
-    std::vector<double> H((m + 1) * m), cs(m), sn(m), g(m + 1), y(m), w(n), z(n);
-    auto h = [&](int i, int j) -> double& { return H[i * m + j]; };
+    GmresWorkspace local;
+    GmresWorkspace& ws = workspace ? *workspace : local;
+    // m + 1 basis vectors, z, and the deflated restart's new basis (deflation + 1).
+    ws.reserve(n, m + 2 + (deflation > 0 ? deflation + 1 : 0));
+    std::vector<double*> V(m + 1), T(deflation > 0 ? deflation + 1 : 0);
+    for (int i = 0; i <= m; ++i) V[i] = ws.vector(i);
+    double* z = ws.vector(m + 1);
+    for (std::size_t i = 0; i < T.size(); ++i) T[i] = ws.vector(m + 2 + static_cast<int>(i));
 
+    Eigen::MatrixXd Hbar = Eigen::MatrixXd::Zero(m + 1, m);
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(m + 1), y;
+    std::vector<double> h(m + 1);
+    int kept = 0;           // basis vectors carried over a deflated restart (Hbar's first columns)
+    bool fresh = true;      // start the next cycle from the true residual
+    bool useDeflation = deflation > 0;
+    bool deflated = false;  // a deflated restart happened since the last true residual
     while (rep.iterations < o.maxIterations) {
-        // r = b - A x
-        A(x, w.data());
+        if (fresh) {
+            // r = b - A x
+            A(x, V[0]);
 #pragma omp parallel for schedule(static)
-        for (long i = 0; i < n; ++i) w[i] = b[i] - w[i];
-        const double beta = std::sqrt(dot(n, w.data(), w.data()));
-        rep.relativeResidual = beta / bnorm;
-        if (rep.relativeResidual <= o.tolerance) {
-            rep.converged = true;
-            return rep;
+            for (long i = 0; i < n; ++i) V[0][i] = b[i] - V[0][i];
+            const double beta = std::sqrt(dot(n, V[0], V[0], partial));
+            rep.relativeResidual = beta / bnorm;
+            if (rep.relativeResidual <= o.tolerance) {
+                rep.converged = true;
+                return rep;
+            }
+            scale(n, V[0], 1.0 / beta);
+            deflated = false;
+            Hbar.setZero();
+            c.setZero();
+            c[0] = beta;
+            kept = 0;
         }
-#pragma omp parallel for schedule(static)
-        for (long i = 0; i < n; ++i) V[0][i] = w[i] / beta;
-        std::fill(g.begin(), g.end(), 0.0);
-        g[0] = beta;
-        int j = 0;
+        int j = kept;
+        Eigen::HouseholderQR<Eigen::MatrixXd> qr;
         for (; j < m && rep.iterations < o.maxIterations; ++j) {
             ++rep.iterations;
             if (M) {
-                M(V[j].data(), z.data());
-                A(z.data(), w.data());
+                M(V[j], z);
+                A(z, V[j + 1]);
             } else {
-                A(V[j].data(), w.data());
+                A(V[j], V[j + 1]);
             }
-            for (int i = 0; i <= j; ++i) {
-                h(i, j) = dot(n, w.data(), V[i].data());
-                const double hij = h(i, j);
-                const double* vi = V[i].data();
-#pragma omp parallel for schedule(static)
-                for (long l = 0; l < n; ++l) w[l] -= hij * vi[l];
-            }
-            const double hnext = std::sqrt(dot(n, w.data(), w.data()));
-            h(j + 1, j) = hnext;
-            if (hnext > 0) {
-                const double inv = 1.0 / hnext;
-#pragma omp parallel for schedule(static)
-                for (long l = 0; l < n; ++l) V[j + 1][l] = w[l] * inv;
-            }
-            for (int i = 0; i < j; ++i) {
-                const double t = cs[i] * h(i, j) + sn[i] * h(i + 1, j);
-                h(i + 1, j) = -sn[i] * h(i, j) + cs[i] * h(i + 1, j);
-                h(i, j) = t;
-            }
-            const double r = std::hypot(h(j, j), h(j + 1, j));
-            cs[j] = r > 0 ? h(j, j) / r : 1.0;
-            sn[j] = r > 0 ? h(j + 1, j) / r : 0.0;
-            h(j, j) = r;
-            h(j + 1, j) = 0;
-            g[j + 1] = -sn[j] * g[j];
-            g[j] = cs[j] * g[j];
-            rep.relativeResidual = std::abs(g[j + 1]) / bnorm;
+            const double hn = orthogonalize(n, V, j + 1, V[j + 1], h.data(), partial);
+            for (int i = 0; i <= j; ++i) Hbar(i, j) = h[i];
+            Hbar(j + 1, j) = hn;
+            if (hn > 0) scale(n, V[j + 1], 1.0 / hn);
+            // min || c - Hbar y || over the first j + 1 columns: its residual is the last entry
+            // of Q^T c (no cancellation, unlike forming c - Hbar y).
+            qr.compute(Hbar.topLeftCorner(j + 2, j + 1));
+            const Eigen::VectorXd qc = qr.householderQ().transpose() * c.head(j + 2);
+            rep.relativeResidual = std::abs(qc[j + 1]) / bnorm;
             if (!std::isfinite(rep.relativeResidual)) return rep;
-            // Converged, or a happy breakdown (the Krylov space is invariant: the solution is
-            // in it). The Arnoldi value, not h(j + 1, j), which the rotation has just zeroed.
-            if (rep.relativeResidual <= o.tolerance || hnext == 0) {
+            // Converged, or a happy breakdown (the Krylov space is invariant: the solution is in it).
+            if (rep.relativeResidual <= o.tolerance || hn == 0) {
                 ++j;
                 break;
             }
         }
-        // x += M^-1 (V y), H y = g (upper triangular, j columns)
-        for (int i = j - 1; i >= 0; --i) {
-            double s = g[i];
-            for (int k = i + 1; k < j; ++k) s -= h(i, k) * y[k];
-            y[i] = h(i, i) != 0 ? s / h(i, i) : 0.0;
-        }
-        std::fill(w.begin(), w.end(), 0.0);
-        for (int i = 0; i < j; ++i) {
-            const double yi = y[i];
-            const double* vi = V[i].data();
-#pragma omp parallel for schedule(static)
-            for (long l = 0; l < n; ++l) w[l] += yi * vi[l];
-        }
+        if (j == kept) return rep;  // no new column (iteration limit)
+        // y of the last least-squares problem; x += M^-1 (V y).
+        y = qr.solve(c.head(j + 1));
+        combine(n, V, j, y.data(), z);
         if (M) {
-            M(w.data(), z.data());
-        } else {
-            z = w;
-        }
+            M(z, T.empty() ? V[m] : T[0]);
+            const double* dz = T.empty() ? V[m] : T[0];
 #pragma omp parallel for schedule(static)
-        for (long l = 0; l < n; ++l) x[l] += z[l];
+            for (long l = 0; l < n; ++l) x[l] += dz[l];
+        } else {
+#pragma omp parallel for schedule(static)
+            for (long l = 0; l < n; ++l) x[l] += z[l];
+        }
+        // (V[m] or T[0] was scratch: harmless, V[m] is rebuilt or the cycle ends.)
         if (rep.relativeResidual <= o.tolerance) {
-            rep.converged = true;
-            return rep;
+            if (!deflated) {
+                rep.converged = true;
+                return rep;
+            }
+            // After deflated restarts the estimate is the small problem's, carried over cycles
+            // whose Arnoldi relations hold only to round-off times their conditioning: check the
+            // true residual and, if it is off, go on with plain restarts from it.
+            A(x, z);
+#pragma omp parallel for schedule(static)
+            for (long l = 0; l < n; ++l) z[l] = b[l] - z[l];
+            const double truth = std::sqrt(dot(n, z, z, partial)) / bnorm;
+            if (truth <= 10 * o.tolerance) {
+                rep.relativeResidual = truth;
+                rep.converged = true;
+                return rep;
+            }
+            deflated = false;
+            useDeflation = false;
         }
         if (o.hopeless > 0 && rep.iterations < o.maxIterations) {
             const double rate = std::log(std::max(rep.relativeResidual, 1e-300)) / rep.iterations;
             if (std::exp(rate * o.maxIterations) > o.hopeless) {
                 rep.gaveUp = true;
                 return rep;
+            }
+        }
+        if (rep.iterations >= o.maxIterations) return rep;
+        fresh = true;
+        if (useDeflation && j == m && Hbar(m, m - 1) > 0) {
+            // GMRES-DR: the new basis is V_{m+1} Q, Q the orthonormalized [harmonic Ritz vectors,
+            // the residual's coefficients], so that A M^-1 V_new(:, 0..k) = V_new Hbar_new.
+            // (The cycle's last vector V[m] was overwritten above when M is given; recompute it
+            // from the Arnoldi relation's coefficients instead of storing one vector more.)
+            const Eigen::MatrixXd P = harmonicRitzVectors(Hbar, m, deflation);
+            const int k = static_cast<int>(P.cols());
+            if (k > 0) {
+                Eigen::MatrixXd W = Eigen::MatrixXd::Zero(m + 1, k + 1);
+                W.topLeftCorner(m, k) = P;
+                W.col(k) = c - Hbar * y;
+                Eigen::HouseholderQR<Eigen::MatrixXd> wq(W);
+                const Eigen::MatrixXd Q = wq.householderQ() * Eigen::MatrixXd::Identity(m + 1, k + 1);
+                bool ok = Q.allFinite();
+                if (ok) {
+                    const Eigen::MatrixXd Hnew = Q.transpose() * Hbar * Q.topLeftCorner(m, k);
+                    const Eigen::VectorXd cnew = Q.transpose() * (c - Hbar * y);
+                    ok = Hnew.allFinite() && cnew.allFinite();
+                    if (ok) {
+                        kept = k;
+                        Hbar.setZero();
+                        Hbar.topLeftCorner(k + 1, k) = Hnew;
+                        c.setZero();
+                        c.head(k + 1) = cnew;
+                        fresh = false;
+                        deflated = true;
+                    }
+                }
+                if (!fresh) {
+                    // The new vectors need V[m], which the update above used as scratch when
+                    // T is empty; T is not empty here (deflation > 0), so V[m] is intact.
+                    for (int i = 0; i <= k; ++i) {
+                        const Eigen::VectorXd q = Q.col(i);
+                        combine(n, V, m + 1, q.data(), T[i]);
+                    }
+                    for (int i = 0; i <= k; ++i) std::swap(V[i], T[i]);
+                }
             }
         }
     }

@@ -1,8 +1,17 @@
 #pragma once
-// Restarted GMRES with right preconditioning (Saad & Schultz; modified Gram-Schmidt, Givens
-// rotations): solves A M^-1 u = b, x = M^-1 u, so the monitored residual is the true
-// ||b - A x||. Operators are callables out = Op(in) on vectors of length n.
+// Restarted GMRES with right preconditioning (Saad & Schultz): solves A M^-1 u = b, x = M^-1 u,
+// so the monitored residual is the true ||b - A x||. Operators are callables out = Op(in) on
+// vectors of length n.
+//
+// Orthogonalization is classical Gram-Schmidt applied twice (CGS2: as stable as modified
+// Gram-Schmidt, but each pass is one sweep over the basis in fixed row chunks, so an iteration
+// costs four parallel regions instead of two per basis vector, and the sums do not depend on the
+// thread count). Optionally the restarts are deflated (GMRES-DR, Morgan 2002): each cycle keeps
+// the harmonic Ritz vectors of the `deflation` smallest harmonic Ritz values, so the slow
+// eigencomponents found in one cycle are not lost at the restart (a restarted GMRES(60) on the
+// flow's adjoint systems needs about twice the iterations of an unrestarted one; docs/performance.md).
 #include <functional>
+#include <vector>
 
 namespace aero::flow {
 
@@ -16,6 +25,8 @@ struct GmresOptions {
                                // far, extrapolated at the same rate per iteration to
                                // maxIterations, would not bring it below this (a caller that
                                // rejects such results saves the remaining cycles)
+    int deflation = 0;         // > 0: harmonic Ritz vectors kept over a restart (GMRES-DR(m, k));
+                               // must be below restart - 1 to leave room for new vectors
 };
 
 struct GmresReport {
@@ -25,9 +36,24 @@ struct GmresReport {
     bool gaveUp = false;            // stopped early: `hopeless` could not be reached
 };
 
+/// The Krylov basis and work vectors, kept between solves of the same size (a Newton iteration's
+/// GMRES on 98k nodes would otherwise allocate and clear 60 vectors of 491k values every time).
+class GmresWorkspace {
+public:
+    void reserve(long n, int vectors);
+    double* vector(int i) { return basis_[static_cast<std::size_t>(i)].data(); }
+    long size() const { return n_; }
+    int vectors() const { return static_cast<int>(basis_.size()); }
+
+private:
+    long n_ = 0;
+    std::vector<std::vector<double>> basis_;
+};
+
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner
-/// inverse. Never throws for non-convergence: see the report.
+/// inverse. Never throws for non-convergence: see the report. `workspace` (optional) is reused
+/// between calls.
 GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* b, double* x,
-                  const GmresOptions& o);
+                  const GmresOptions& o, GmresWorkspace* workspace = nullptr);
 
 }  // namespace aero::flow

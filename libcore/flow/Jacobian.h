@@ -45,20 +45,36 @@ void assembleJacobian(const FlowMesh& fm, const std::vector<double>& metrics, co
 void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& metrics,
                                  const double* q, const ResidualOptions& o, BlockSparseMatrix& J);
 
-/// Exact products with dR/dq (matrix-free, one complex residual each): out = dR/dq v.
+/// How JacobianProduct forms dR/dq v.
+enum class ProductMode {
+    ComplexStep,  // Im R(q + i h v) / h: exact to round-off; one complex residual (about 3.5 real
+                  // ones with the entropy-conservative flux's logarithms)
+    Difference,   // (R(q + h v) - R(q)) / h, h = sqrt(eps) sqrt(1 + ||q||) / ||v||: one real
+                  // residual, relative error about 1e-7 (far below a Newton step's GMRES tolerance)
+};
+
+/// Matrix-free products with dR/dq: out = dR/dq v, one residual each.
 class JacobianProduct {
 public:
-    JacobianProduct(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o);
-    void setState(const double* q);
+    /// `metrics` must outlive the object in Difference mode (it is referenced, not copied).
+    JacobianProduct(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,
+                    ProductMode mode = ProductMode::ComplexStep);
+    /// The state q; in Difference mode also R(q) (computed here when r is null).
+    void setState(const double* q, const double* r = nullptr);
     void mult(const double* v, double* out) const;
     long size() const { return kVars * fm_->nodeCount; }
+    ProductMode mode() const { return mode_; }
 
 private:
     const FlowMesh* fm_;
     ResidualOptions o_;
-    std::vector<std::complex<double>> metrics_;
-    std::vector<double> q_;
+    ProductMode mode_;
+    const std::vector<double>* realMetrics_;
+    std::vector<std::complex<double>> metrics_;  // ComplexStep only
+    std::vector<double> q_, r_;                  // r_: R(q), Difference only
+    double qNorm_ = 0;
     mutable std::vector<std::complex<double>> qc_, rc_;
+    mutable std::vector<double> qp_, rp_;
 };
 
 /// out = (dR/dx) v at (q, x): v and x hold 3 values per node (grid coordinates, global node

@@ -205,6 +205,46 @@ void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOp
     if (o.terms & kInterfaceSat) interfaceTerm(fm, metrics, q, o.freeStream, o.scheme, r);
 }
 
+std::vector<double> alphaDerivative(const FlowMesh& fm, const std::vector<double>& metrics, const double* q,
+                                    const ResidualOptions& o) {
+    using cplx = std::complex<double>;
+    std::vector<double> out(kVars * static_cast<std::size_t>(fm.nodeCount), 0.0);
+    if (!(o.terms & kBoundarySat)) return out;
+    const FreeStream& fs = o.freeStream;
+    const auto s = fs.state();
+    // d q_inf / d alpha (per radian): the velocity turns in the X-Z plane; rho and E stay.
+    const double a = fs.alpha();
+    const double w[kVars] = {0.0, -fs.mach * std::sin(a), 0.0, fs.mach * std::cos(a), 0.0};
+    constexpr double h = 1e-30;
+    const double perDegree = 3.14159265358979323846 / 180.0;
+    cplx qinf[kVars];
+    for (int v = 0; v < kVars; ++v) qinf[v] = cplx(s[v], h * w[v]);
+    const long nb = static_cast<long>(fm.blocks.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long b = 0; b < nb; ++b) {
+        const FlowBlock& blk = fm.blocks[b];
+        for (int f = 0; f < 6; ++f) {
+            if (blk.faces[f].kind != mesh::BoundaryKind::Farfield) continue;
+            for (long node : faceNodes(blk.dims, f)) {
+                const long g = blk.offset + node;
+                double nr[3];
+                outwardNormal(&metrics[kMetricWidth * static_cast<std::size_t>(g)], f, nr);
+                const cplx n[3] = {nr[0], nr[1], nr[2]};
+                cplx qc[kVars], flux[kVars];
+                for (int v = 0; v < kVars; ++v) qc[v] = q[kVars * g + v];
+                // The SAT is 2 (F*(q, q_inf, n) - F_n(q)); F_n(q) does not depend on alpha.
+                if (o.scheme == InviscidScheme::EntropyConservative) {
+                    entropyUpwindFlux(qc, qinf, n, fs.gamma, flux);
+                } else {
+                    upwindFlux(qc, qinf, n, fs.gamma, flux);
+                }
+                for (int v = 0; v < kVars; ++v) out[kVars * g + v] += 2.0 * flux[v].imag() / h * perDegree;
+            }
+        }
+    }
+    return out;
+}
+
 std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs) {
     const auto s = fs.state();
     std::vector<double> q(kVars * static_cast<std::size_t>(fm.nodeCount));

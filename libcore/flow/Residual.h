@@ -46,6 +46,12 @@ template <class T>
 void residual(const FlowMesh& fm, const T* metrics, const T* q, const ResidualOptions& o, T* r,
               const std::vector<T>* junctionNormals = nullptr);
 
+/// dR/dalpha at fixed q and grid, per degree of angle of attack (5 * nodeCount). Only the
+/// farfield SATs see alpha, through the free-stream state (the wall, symmetry and interface fluxes
+/// use only gamma); their derivative is taken by complex step in that state: exact to round-off.
+std::vector<double> alphaDerivative(const FlowMesh& fm, const std::vector<double>& metrics, const double* q,
+                                    const ResidualOptions& o);
+
 /// The free stream of `fs` at every node (5 * nodeCount).
 std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs);
 

@@ -185,6 +185,27 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                             "coupling kept through a separator ordered last (1 = natural order, sequential); fixed per "
                             "case rather than taken from the thread count, so a run takes the same iterations on any "
                             "machine"));
+        {
+            Option<FlowCase> s;
+            s.spec = {"jacobian_products",
+                      "how the Newton steps' GMRES forms Jacobian-vector products: the difference of two real "
+                      "residuals (about 3.5 times cheaper) or complex step (exact to round-off)",
+                      "", OptionKind::Choice, 0, 0, true, true, {"difference", "complex_step"}};
+            s.get = [](const FlowCase& c) {
+                return OptionValue(std::string(c.newton.products == flow::ProductMode::ComplexStep ? "complex_step"
+                                                                                                   : "difference"));
+            };
+            s.set = [](FlowCase& c, const OptionValue& v) {
+                c.newton.products = std::get<std::string>(v) == "complex_step" ? flow::ProductMode::ComplexStep
+                                                                               : flow::ProductMode::Difference;
+            };
+            o.push_back(std::move(s));
+        }
+        o.push_back(integer<FlowCase>("gmres_restart", 5, 500, [](FlowCase& c) -> int& { return c.newton.gmresRestart; },
+                            "Krylov vectors per GMRES cycle of a Newton step (memory: 5 values per grid node each)"));
+        o.push_back(integer<FlowCase>("gmres_deflation", 0, 200, [](FlowCase& c) -> int& { return c.newton.gmresDeflation; },
+                            "harmonic Ritz vectors a Newton step's GMRES keeps over a restart (GMRES-DR; 0: plain "
+                            "restarts); below gmres_restart - 1"));
         o.push_back(real<FlowCase>("lumping", "", 0, false, 1000, false,
                                    [](FlowCase& c) -> double& { return c.dissipation.lumping; },
                                    "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "
