@@ -48,20 +48,24 @@ void BM_Regenerate(benchmark::State& state, const char* level) {
 BENCHMARK_CAPTURE(BM_Regenerate, paper, "paper")->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Regenerate, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Arg 0: the default solver (IC-preconditioned CG); 1: the sparse Cholesky (CHOLMOD) of every increment.
 void BM_ControlGridMove(benchmark::State& state, const char* level) {
     const mesh::MultiBlockMesh base = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
     mesh::MoveReport r;
+    mesh::ElasticityOptions o;
+    if (state.range(0) == 1) o.solver = mesh::ElasticityOptions::Solver::Direct;
     for (auto _ : state) {
         mesh::MultiBlockMesh m = base;
-        r = mesh::moveControlGrid(m, bwbSurface(), mesh::ElasticityOptions{});
+        r = mesh::moveControlGrid(m, bwbSurface(), o);
         benchmark::DoNotOptimize(m.control.data());
     }
     state.counters["control_nodes"] = base.controlCount();
     state.counters["cg_iterations"] = r.totalIterations;
     state.counters["converged"] = r.status == mesh::SolveStatus::Converged;
+    state.counters["direct_solves"] = r.directSolves;
 }
-BENCHMARK_CAPTURE(BM_ControlGridMove, paper, "paper")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_ControlGridMove, coarse, "coarse")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ControlGridMove, paper, "paper")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ControlGridMove, coarse, "coarse")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // The mesh adjoint (issue #16): the move's six increments in reverse for `rhs` functionals at once,
 // on the moved control grid of the blended-wing deformation; compare with BM_ControlGridMove (the

@@ -6,9 +6,6 @@
 #include <cstdio>
 
 #include "common/Error.h"
-#include "flow/BlockIlu.h"
-#include "flow/Gmres.h"
-#include "flow/Jacobian.h"
 #include "flow/Metrics.h"
 
 namespace aero::flow {
@@ -88,6 +85,92 @@ bool isPhysical(const FlowMesh& fm, const double* q, double gamma, long* where) 
     return true;
 }
 
+double CflLaw::next(double R, double R0) const {
+    double cfl = std::min(o_.cflMax, base_ * std::max(1.0, std::pow(R0 / R, o_.cflExponent)));
+    if (last_ > 0) cfl = std::min(cfl, o_.cflMaxIncrease * last_);
+    return cfl;
+}
+
+void CflLaw::accepted(const FlowIteration& rec) {
+    last_ = rec.cfl;
+    if (rec.linearResidual > o_.linearTolerance) {
+        // GMRES stopped short of the forcing tolerance: the system is too hard for the
+        // preconditioner at this CFL. Step back instead of growing into harder systems.
+        base_ *= o_.cflBackoff;
+    } else if (rec.stepScale == 1.0) {
+        base_ = std::min(o_.cflMax, o_.cflGrowth * base_);
+    } else if (rec.stepScale < o_.smallStep) {
+        // The change limit cut the step to a sliver: the linearization is not trusted this
+        // far out. Without a smaller CFL the same sliver repeats (the medium level's blended
+        // wing sat at step 0.00 for 25 iterations).
+        base_ *= o_.cflBackoff;
+    }
+}
+
+void CflLaw::rejected(double cfl, double R, double R0) {
+    // Cut the CFL actually used (not only the base: near convergence the (R0/R) factor would
+    // keep the product at cflMax and the cut would do nothing).
+    base_ = std::max(1e-3 * o_.cfl0, 0.1 * cfl / std::max(1.0, std::pow(R0 / R, o_.cflExponent)));
+}
+
+StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,
+                       const NewtonOptions& n)
+    : fm_(fm), metrics_(metrics), n_(n), approx_(o), P_(jacobianPattern(fm, 1)),
+      jp_(fm, metrics, o, n.products), rhs_(kVars * static_cast<std::size_t>(fm.nodeCount)) {
+    approx_.lumpedDissipation = true;
+    approx_.freezeCoefficients = true;
+    if (n.preconditionerParts > 1) {
+        ilu_.setOrdering(partitionOrdering(P_, blockGroups(fm, n.preconditionerParts), n.preconditionerParts));
+    }
+}
+
+void StepSystem::assemble(const double* q, const double* r, double cfl, bool exact) {
+    d_ = timeStepScale(fm_, metrics_, q, approx_.freeStream.gamma);
+    for (double& x : d_) x /= cfl;
+    assembleApproximateJacobian(fm_, metrics_, q, approx_, P_);
+    P_.addDiagonal(d_.data());
+    q_ = q;
+    r_ = r;
+    exact_ = exact;
+    factored_ = false;
+    productsReady_ = false;
+}
+
+bool StepSystem::factor(std::string& why) {
+    if (factored_) return true;
+    if (!ilu_.factor(P_, n_.iluFill)) {
+        why = ilu_.message();
+        return false;
+    }
+    factored_ = true;
+    return true;
+}
+
+GmresReport StepSystem::solve(const double* r, double* dq) {
+    const long n = kVars * fm_.nodeCount;
+    if (exact_ && !productsReady_) {
+        jp_.setState(q_, r_);
+        productsReady_ = true;
+    }
+    const LinearMap A = [&](const double* in, double* out) {
+        if (!exact_) {
+            P_.mult(in, out);
+            return;
+        }
+        jp_.mult(in, out);
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < n; ++i) out[i] += d_[i / kVars] * in[i];
+    };
+    const LinearMap M = [&](const double* in, double* out) { ilu_.solve(in, out); };
+    // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
+    // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
+    const GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, n_.linearTolerance, n_.linearFailure,
+                          n_.gmresDeflation};
+    for (long i = 0; i < n; ++i) rhs_[i] = -r[i];
+    std::fill(dq, dq + n, 0.0);
+    return gmres(n, A, M, rhs_.data(), dq, go, &krylov_);
+}
+
 FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                      const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& opt,
                      const std::function<void(const FlowIteration&)>& progress,
@@ -115,7 +198,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         return finish(FlowStatus::NotANumber, "the initial state has non-positive density or pressure");
     }
 
-    std::vector<double> r(n), rNew(n), qNew(n), dq(n), rhs(n), d;
+    std::vector<double> r(n), rNew(n), qNew(n), dq(n);
     residual(fm, metrics.data(), q.data(), o, r.data());
     const double Rstart = norm2(r);
     // Relative measures refer to the first run's initial residual when this run continues one.
@@ -127,38 +210,13 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         return finish(FlowStatus::Converged, "the initial state is converged (relative residual " + sci(Rstart / R0) + ")");
     }
 
-    ResidualOptions approx = o;
-    approx.lumpedDissipation = true;
-    approx.freezeCoefficients = true;
-    BlockSparseMatrix P = jacobianPattern(fm, 1);
-    BlockIlu ilu;
-    if (opt.preconditionerParts > 1) {
-        ilu.setOrdering(partitionOrdering(P, blockGroups(fm, opt.preconditionerParts), opt.preconditionerParts));
-    }
-    JacobianProduct jp(fm, metrics, o, opt.products);
-    bool exact = false;
-    const LinearMap A = [&](const double* in, double* out) {
-        if (!exact) {
-            P.mult(in, out);
-            return;
-        }
-        jp.mult(in, out);
-#pragma omp parallel for schedule(static)
-        for (long i = 0; i < n; ++i) out[i] += d[i / kVars] * in[i];
-    };
-    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
-    // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
-    // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
-    const GmresOptions go{opt.gmresRestart, opt.gmresMaxIterations, opt.linearTolerance,
-                          opt.linearFailure, opt.gmresDeflation};
-    GmresWorkspace krylov;  // kept over the iterations (60 vectors of 5 N values)
-
-    double Rn = Rstart, best = Rstart, cflBase = opt.cfl0;
-    rep.cflBase = cflBase;
-    rep.lumping = approx.dissipation.lumping;
+    StepSystem system(fm, metrics, o, opt);
+    CflLaw law(opt, opt.cfl0);
+    double Rn = Rstart, best = Rstart;
+    rep.cflBase = law.base();
+    rep.lumping = system.lumping();
     int bestIteration = 0, rejections = 0;
     double cflHigh = 0;          // the largest CFL of an accepted step so far
-    double lastCfl = 0;          // the CFL of the last accepted step
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
                                  // an exact step fails)
     int windowStart = 0;         // history index from which the approximate steps are judged
@@ -166,30 +224,19 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
-        double cfl = std::min(opt.cflMax, cflBase * std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
-        if (lastCfl > 0) cfl = std::min(cfl, opt.cflMaxIncrease * lastCfl);
-        d = timeStepScale(fm, metrics, q.data(), gamma);
-        for (double& x : d) x /= cfl;
-        auto assemble = [&] {
-            assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
-            P.addDiagonal(d.data());
-        };
-        assemble();
-        exact = newton || Rn <= opt.exactBelow * R0;
+        const double cfl = law.next(Rn, R0);
+        bool exact = newton || Rn <= opt.exactBelow * R0;
+        system.assemble(q.data(), r.data(), cfl, exact);
         FlowIteration rec;
         std::string why;             // why the step was rejected
         bool linearFailed = false;   // ... because GMRES could not solve the system
         // One pseudo-time step; false when it is rejected (the CFL is then cut).
         auto step = [&]() -> bool {
-            if (!ilu.factor(P, opt.iluFill)) {
+            if (!system.factor(why)) {
                 linearFailed = true;
-                why = ilu.message();
                 return false;
             }
-            if (exact) jp.setState(q.data(), r.data());
-            for (long i = 0; i < n; ++i) rhs[i] = -r[i];
-            std::fill(dq.begin(), dq.end(), 0.0);
-            const GmresReport g = gmres(n, A, M, rhs.data(), dq.data(), go, &krylov);
+            const GmresReport g = system.solve(r.data(), dq.data());
             rep.linearIterations += g.iterations;
             rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, exact, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {
@@ -242,15 +289,16 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             newton = false;
             windowStart = static_cast<int>(rep.history.size()) + 1;
             linearFailed = false;
+            system.useApproximate();
             accepted = attempt();
         }
-        while (!accepted && linearFailed && approx.dissipation.lumping < opt.maxLumping) {
+        while (!accepted && linearFailed && system.lumping() < opt.maxLumping) {
             // GMRES failed on the lumped system: its ILU lost stability (too little diagonal
             // dominance for this grid and CFL). More lumping restores it; keep it for the run.
-            approx.dissipation.lumping = std::min(opt.maxLumping, 2.0 * approx.dissipation.lumping);
-            rep.lumping = approx.dissipation.lumping;
-            assemble();
+            system.setLumping(std::min(opt.maxLumping, 2.0 * system.lumping()));
+            rep.lumping = system.lumping();
             exact = false;
+            system.assemble(q.data(), r.data(), cfl, false);
             linearFailed = false;
             accepted = attempt();
         }
@@ -260,27 +308,13 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                                                         " steps in a row rejected (last at CFL " + sci(cfl) + ": " + why +
                                                         "), relative residual " + sci(Rn / R0));
             }
-            // Cut the CFL actually used (not only the base: near convergence the (R0/R) factor
-            // would keep the product at cflMax and the cut would do nothing).
-            cflBase = std::max(1e-3 * opt.cfl0, 0.1 * cfl / std::max(1.0, std::pow(R0 / Rn, opt.cflExponent)));
-            rep.cflBase = cflBase;
+            law.rejected(cfl, Rn, R0);
+            rep.cflBase = law.base();
             continue;
         }
         rejections = 0;
-        lastCfl = cfl;
-        if (rec.linearResidual > opt.linearTolerance) {
-            // GMRES stopped short of the forcing tolerance: the system is too hard for the
-            // preconditioner at this CFL. Step back instead of growing into harder systems.
-            cflBase *= opt.cflBackoff;
-        } else if (rec.stepScale == 1.0) {
-            cflBase = std::min(opt.cflMax, opt.cflGrowth * cflBase);
-        } else if (rec.stepScale < opt.smallStep) {
-            // The change limit cut the step to a sliver: the linearization is not trusted this
-            // far out. Without a smaller CFL the same sliver repeats (the medium level's blended
-            // wing sat at step 0.00 for 25 iterations).
-            cflBase *= opt.cflBackoff;
-        }
-        rep.cflBase = cflBase;
+        law.accepted(rec);
+        rep.cflBase = law.base();
         ++rep.iterations;
         rep.finalResidual = Rn;
         rep.history.push_back(rec);

@@ -16,7 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "flow/BlockIlu.h"
 #include "flow/FlowMesh.h"
+#include "flow/Gmres.h"
 #include "flow/Jacobian.h"
 #include "flow/Residual.h"
 
@@ -38,7 +40,9 @@ struct NewtonOptions {
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)
     int gmresRestart = 60;
     int gmresMaxIterations = 180;      // per nonlinear iteration (3 restart cycles)
-    int gmresDeflation = 0;            // harmonic Ritz vectors kept over a restart (GMRES-DR)
+    int gmresDeflation = 20;           // harmonic Ritz vectors kept over a restart (GMRES-DR: on the
+                                       // 98k blended wing a steady system to 1e-10 takes 415 products
+                                       // against > 3000 with plain GMRES(60); docs/performance.md)
     ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
                                        // products: a real residual's difference (3.5x cheaper than
                                        // a complex one; Jacobian.h) or complex step
@@ -108,6 +112,66 @@ struct FlowReport {
     double lumping = 0;           // the preconditioner's lumping factor at the end (raised from
                                   // the option's when GMRES failed on the lumped system)
     bool converged() const { return status == FlowStatus::Converged; }
+};
+
+/// The pseudo-transient continuation's CFL law: CFL = base max(1, (R0 / R)^beta), capped at
+/// cflMax and at cflMaxIncrease times the last accepted step's; the base grows by cflGrowth after
+/// a full step, backs off after a step whose GMRES missed its tolerance or that the change limit
+/// cut to a sliver, and is cut to a tenth of the CFL actually used after a rejected attempt.
+class CflLaw {
+public:
+    CflLaw(const NewtonOptions& o, double base) : o_(o), base_(base) {}
+    /// The CFL of the next attempt at residual R (R0: the reference residual).
+    double next(double R, double R0) const;
+    /// After an accepted step `rec` (its cfl, linear residual and step scale).
+    void accepted(const FlowIteration& rec);
+    /// After a rejected attempt at CFL `cfl` and residual R.
+    void rejected(double cfl, double R, double R0);
+    double base() const { return base_; }
+
+private:
+    const NewtonOptions& o_;
+    double base_;
+    double last_ = 0;  // the CFL of the last accepted step (0: none yet)
+};
+
+/// The linear system of one pseudo-time step, (V/dt + dR/dq) dq = -R(q), and its inexact
+/// solution by right-preconditioned GMRES: the system matrix is the exact Jacobian (matrix-free
+/// products, JacobianProduct) or the approximate one, the preconditioner a block ILU of the
+/// approximate Jacobian (lumped dissipation, frozen coefficients) plus V/dt. Built once per solve;
+/// the pattern, the ILU's symbolic phase and the Krylov workspace are reused every iteration.
+class StepSystem {
+public:
+    StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,
+               const NewtonOptions& n);
+    /// Assembles the preconditioner's matrix at state q for this CFL; `exact` selects the system
+    /// matrix of solve(). r = R(q) (the difference products use it).
+    void assemble(const double* q, const double* r, double cfl, bool exact);
+    /// Factors the preconditioner; false with the reason when a pivot is singular.
+    bool factor(std::string& why);
+    /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled).
+    GmresReport solve(const double* r, double* dq);
+    bool exact() const { return exact_; }
+    /// The approximate Jacobian as the system matrix from now on (same preconditioner).
+    void useApproximate() { exact_ = false; }
+    double lumping() const { return approx_.dissipation.lumping; }
+    void setLumping(double sigma) { approx_.dissipation.lumping = sigma; }
+
+private:
+    const FlowMesh& fm_;
+    const std::vector<double>& metrics_;
+    const NewtonOptions& n_;
+    ResidualOptions approx_;
+    BlockSparseMatrix P_;
+    BlockIlu ilu_;
+    JacobianProduct jp_;
+    GmresWorkspace krylov_;
+    std::vector<double> d_, rhs_;  // V/dt per node; -R
+    const double* q_ = nullptr;
+    const double* r_ = nullptr;
+    bool exact_ = false;
+    bool factored_ = false;       // ilu_ holds the factors of the last assemble()
+    bool productsReady_ = false;  // jp_ holds the state of the last assemble()
 };
 
 /// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream

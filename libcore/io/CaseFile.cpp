@@ -451,6 +451,11 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         fc.present = true;
         readOptions(ctx, j, "flow", flowOptions(), fc);
         if (j.contains("restart")) fc.restart = resolve(path, ctx.string(j["restart"], "flow.restart"));
+        if (fc.newton.gmresDeflation > 0 && fc.newton.gmresDeflation >= fc.newton.gmresRestart - 1) {
+            ctx.fail("flow.gmres_deflation", "must be below gmres_restart - 1 (" +
+                                                 std::to_string(fc.newton.gmresRestart - 1) +
+                                                 "): the cycle needs room for new vectors");
+        }
     }
     if (doc.contains("optimization")) {
         const json& j = doc["optimization"];

@@ -173,6 +173,15 @@ TEST(Options, FlowTableDrivesParserWriterAndDocumentation) {
     }
     std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"scheme": "upwind"}})";
     EXPECT_THROW((void)io::readCase(path), CaseError);
+    // Keys that depend on each other: the deflated vectors must leave room in the cycle.
+    std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"gmres_restart": 20, "gmres_deflation": 19}})";
+    try {
+        (void)io::readCase(path);
+        ADD_FAILURE() << "gmres_deflation 19 with gmres_restart 20 accepted";
+    } catch (const CaseError& e) {
+        EXPECT_NE(std::string(e.what()).find("flow.gmres_deflation: must be below gmres_restart - 1 (19)"), std::string::npos)
+            << e.what();
+    }
     // The documentation's rows are the generated ones.
     std::ifstream in(std::string(AEROFORM_SAMPLES_DIR) + "/../docs/case-file.md");
     std::stringstream doc;
