@@ -22,7 +22,11 @@ constexpr Entry kTable[] = {{Functional::Kind::CL, "CL"},
                             {Functional::Kind::CD, "CD"},
                             {Functional::Kind::CM, "CM"},
                             {Functional::Kind::CY, "CY"},
-                            {Functional::Kind::PressureMismatch, "pressure"}};
+                            {Functional::Kind::PressureMismatch, "pressure"},
+                            {Functional::Kind::ForceCombination, "force combination"}};
+
+constexpr Functional::Kind kForceKinds[4] = {Functional::Kind::CL, Functional::Kind::CD, Functional::Kind::CM,
+                                             Functional::Kind::CY};
 
 template <class T>
 T magnitude(const T n[3]) {
@@ -32,7 +36,14 @@ T magnitude(const T n[3]) {
 }  // namespace
 
 Functional Functional::pressureMismatch(std::vector<double> target) {
-    return {Kind::PressureMismatch, std::make_shared<const std::vector<double>>(std::move(target))};
+    return {Kind::PressureMismatch, std::make_shared<const std::vector<double>>(std::move(target)), nullptr};
+}
+
+Functional Functional::forceCombination(double cCL, double cCD, double cCM, double cCY) {
+    Functional f;
+    f.kind = Kind::ForceCombination;
+    f.coefficients = std::make_shared<const std::array<double, 4>>(std::array<double, 4>{cCL, cCD, cCM, cCY});
+    return f;
 }
 
 void functionalWeights(const Functional& f, const flow::FreeStream& fs, const flow::ForceReference& ref, double wF[3],
@@ -40,6 +51,17 @@ void functionalWeights(const Functional& f, const flow::FreeStream& fs, const fl
     const double qs = fs.dynamicPressure() * ref.area;
     const double ca = std::cos(fs.alpha()), sa = std::sin(fs.alpha());
     for (int c = 0; c < 3; ++c) wF[c] = wM[c] = 0;
+    if (f.kind == Functional::Kind::ForceCombination) {
+        for (int b = 0; b < 4; ++b) {
+            double bF[3], bM[3];
+            functionalWeights(Functional{kForceKinds[b], nullptr, nullptr}, fs, ref, bF, bM);
+            for (int c = 0; c < 3; ++c) {
+                wF[c] += (*f.coefficients)[b] * bF[c];
+                wM[c] += (*f.coefficients)[b] * bM[c];
+            }
+        }
+        return;
+    }
     switch (f.kind) {
         case Functional::Kind::CL:
             wF[0] = -sa / qs;
@@ -56,6 +78,7 @@ void functionalWeights(const Functional& f, const flow::FreeStream& fs, const fl
             wF[1] = 1.0 / qs;
             break;
         case Functional::Kind::PressureMismatch:
+        case Functional::Kind::ForceCombination:
             break;
     }
 }
@@ -90,8 +113,8 @@ template C wallNodeShare<C>(const Functional&, const flow::WallNode&, std::size_
 Functional functionalByName(const std::string& name) {
     std::string list;
     for (const Entry& e : kTable) {
-        if (e.kind == Functional::Kind::PressureMismatch) continue;
-        if (name == e.name) return {e.kind, nullptr};
+        if (e.kind == Functional::Kind::PressureMismatch || e.kind == Functional::Kind::ForceCombination) continue;
+        if (name == e.name) return {e.kind, nullptr, nullptr};
         list += std::string(list.empty() ? "" : ", ") + e.name;
     }
     throw CaseError("unknown functional '" + name + "' (expected " + list + ")");
@@ -105,6 +128,10 @@ const char* functionalName(const Functional& f) {
 }
 
 double functionalValue(const Functional& f, const flow::ForceCoefficients& c) {
+    if (f.kind == Functional::Kind::ForceCombination) {
+        const auto& k = *f.coefficients;
+        return k[0] * c.CL + k[1] * c.CD + k[2] * c.CM + k[3] * c.CY;
+    }
     switch (f.kind) {
         case Functional::Kind::CL:
             return c.CL;
@@ -115,6 +142,7 @@ double functionalValue(const Functional& f, const flow::ForceCoefficients& c) {
         case Functional::Kind::CY:
             return c.CY;
         case Functional::Kind::PressureMismatch:
+        case Functional::Kind::ForceCombination:
             break;
     }
     throw Error("functionalValue: the pressure mismatch needs the state, not the forces");
@@ -155,6 +183,9 @@ std::vector<double> stateGradient(const Functional& f, const flow::FlowMesh& fm,
 
 double alphaPartial(const Functional& f, const flow::ForceCoefficients& c) {
     // CL = -Fx sin a + Fz cos a, CD = Fx cos a + Fz sin a (coefficients): dCL/da = -CD, dCD/da = CL.
+    if (f.kind == Functional::Kind::ForceCombination) {
+        return (*f.coefficients)[0] * -c.CD * kDegree + (*f.coefficients)[1] * c.CL * kDegree;
+    }
     switch (f.kind) {
         case Functional::Kind::CL:
             return -c.CD * kDegree;
@@ -163,6 +194,7 @@ double alphaPartial(const Functional& f, const flow::ForceCoefficients& c) {
         case Functional::Kind::CM:
         case Functional::Kind::CY:
         case Functional::Kind::PressureMismatch:
+        case Functional::Kind::ForceCombination:
             return 0;
     }
     return 0;

@@ -9,6 +9,7 @@
 //                        (Section IV.C.2), against a target pressure per wall node.
 // Chosen by name ("CL", "CD", "CM", "CY", "pressure") so the case file and the optimizer refer to
 // them; adding one is one entry of the table in Functionals.cpp and one case of wallNodeShare.
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,23 +20,29 @@
 namespace aero::adjoint {
 
 struct Functional {
-    enum class Kind { CL, CD, CM, CY, PressureMismatch };
+    enum class Kind { CL, CD, CM, CY, PressureMismatch, ForceCombination };
     Kind kind = Kind::CL;
     /// PressureMismatch: the target static pressure at every wall node, in flow::wallNodes order.
     std::shared_ptr<const std::vector<double>> targetPressure;
+    /// ForceCombination: c_CL CL + c_CD CD + c_CM CM + c_CY CY. The linearization of a nonlinear
+    /// function of the coefficients at a state (CL/CD: 1/CD and -CL/CD^2) has this form, so one
+    /// adjoint gives its gradient where the quotient rule on CL and CD needs two.
+    std::shared_ptr<const std::array<double, 4>> coefficients;
 
     static const Functional CL, CD, CM, CY;
     static Functional pressureMismatch(std::vector<double> target);
-    /// A force or moment coefficient (a linear function of the wall force and moment).
+    static Functional forceCombination(double cCL, double cCD, double cCM = 0, double cCY = 0);
+    /// A force or moment coefficient, or a combination of them (a linear function of the wall
+    /// force and moment).
     bool isForce() const { return kind != Kind::PressureMismatch; }
     friend bool operator==(const Functional& a, const Functional& b) {
-        return a.kind == b.kind && a.targetPressure == b.targetPressure;
+        return a.kind == b.kind && a.targetPressure == b.targetPressure && a.coefficients == b.coefficients;
     }
 };
-inline const Functional Functional::CL{Functional::Kind::CL, nullptr};
-inline const Functional Functional::CD{Functional::Kind::CD, nullptr};
-inline const Functional Functional::CM{Functional::Kind::CM, nullptr};
-inline const Functional Functional::CY{Functional::Kind::CY, nullptr};
+inline const Functional Functional::CL{Functional::Kind::CL, nullptr, nullptr};
+inline const Functional Functional::CD{Functional::Kind::CD, nullptr, nullptr};
+inline const Functional Functional::CM{Functional::Kind::CM, nullptr, nullptr};
+inline const Functional Functional::CY{Functional::Kind::CY, nullptr, nullptr};
 
 /// "CL" -> Functional::CL, ... (the force functionals); throws CaseError naming the choices for an
 /// unknown name. "pressure" is not accepted here: it needs its target (Functional::pressureMismatch).

@@ -228,8 +228,8 @@ void addFunctionalGridGradient(Functional f, const flow::FlowMesh& fm, const std
         // 10 metric values, then 3 coordinates.
         for (int p = 0; p < kMetricWidth + 3; ++p) {
             C m[kMetricWidth], xn[3];
-            for (int k = 0; k < kMetricWidth; ++k) m[k] = metrics[kMetricWidth * w.node + k];
-            for (int k = 0; k < 3; ++k) xn[k] = x[3 * w.node + k];
+            for (int i = 0; i < kMetricWidth; ++i) m[i] = metrics[kMetricWidth * w.node + i];
+            for (int i = 0; i < 3; ++i) xn[i] = x[3 * w.node + i];
             (p < kMetricWidth ? m[p] : xn[p - kMetricWidth]) += C(0.0, kStep);
             const double s = wallNodeShare<C>(f, w, k, m, xn, qn, fs, ref).imag();
             if (p < kMetricWidth) {

@@ -61,16 +61,15 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         }
         bases.push_back(f);
     };
+    const FlowResult& f = *e.flow;
+    // CL/CD through its linearization at this state, (1/CD) CL - (CL/CD^2) CD: one adjoint
+    // instead of one for CL and one for CD.
+    const double CL = f.forces.CL, CD = f.forces.CD;
+    const adjoint::Functional ratio = adjoint::Functional::forceCombination(1.0 / CD, -CL / (CD * CD));
     for (const std::string& name : o.functionals) {
         checkGradientFunctional(name);
-        if (name == kRatio) {
-            need(adjoint::Functional::CL);
-            need(adjoint::Functional::CD);
-        } else {
-            need(byName(name));
-        }
+        need(name == kRatio ? ratio : byName(name));
     }
-    const FlowResult& f = *e.flow;
     const MeshResult& m = *e.mesh;
     const io::CaseFile& c = ev.caseFile();
     const flow::FreeStream& fs = f.residualOptions.freeStream;
@@ -82,17 +81,19 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
 
     t = std::chrono::steady_clock::now();
     std::vector<adjoint::AdjointSolution> adj;
+    auto nameOf = [&](const adjoint::Functional& b) -> std::string {
+        return b == ratio ? kRatio : adjoint::functionalName(b);
+    };
     for (adjoint::Functional b : bases) {
         adj.push_back(adjoint::solveAdjoint(lin, b, f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference));
         res.adjoints.push_back(adj.back().report);
         if (log) {
-            log(std::string("flow adjoint of ") + adjoint::functionalName(b) +
+            log("flow adjoint of " + nameOf(b) +
                 format(": %.0f GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
                     adj.back().report.relativeResidual, adj.back().report.seconds));
         }
         if (!adj.back().report.converged()) {
-            res.message = std::string("the flow adjoint of ") + adjoint::functionalName(b) +
-                          " did not converge: " + adj.back().report.message;
+            res.message = "the flow adjoint of " + nameOf(b) + " did not converge: " + adj.back().report.message;
             return res;
         }
     }
@@ -157,9 +158,10 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     if (ev.model()) dAdv = ev.model()->dUniqueDv();
     std::vector<FunctionalGradient> base(bases.size());
     for (std::size_t p = 0; p < bases.size(); ++p) {
-        base[p].name = adjoint::functionalName(bases[p]);
-        base[p].value = bases[p].isForce() ? adjoint::functionalValue(bases[p], f.forces)
-                                           : adjoint::functionalValue(bases[p], f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference);
+        base[p].name = nameOf(bases[p]);
+        base[p].value = bases[p] == ratio     ? CL / CD
+                        : bases[p].isForce() ? adjoint::functionalValue(bases[p], f.forces)
+                                             : adjoint::functionalValue(bases[p], f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference);
         if (ev.model()) {
             const Eigen::Map<const Eigen::VectorXd> g(gA[p].data(), static_cast<Eigen::Index>(gA[p].size()));
             const Eigen::VectorXd dv = dAdv.transpose() * g;
@@ -173,21 +175,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         }
         throw Error("gradient: missing base functional");
     };
-    for (const std::string& name : o.functionals) {
-        if (name != kRatio) {
-            res.functionals.push_back(baseOf(byName(name)));
-            continue;
-        }
-        const FunctionalGradient& L = baseOf(adjoint::Functional::CL);
-        const FunctionalGradient& D = baseOf(adjoint::Functional::CD);
-        FunctionalGradient r;
-        r.name = kRatio;
-        r.value = L.value / D.value;
-        r.dv.resize(L.dv.size());
-        for (std::size_t i = 0; i < L.dv.size(); ++i) r.dv[i] = (L.dv[i] * D.value - L.value * D.dv[i]) / (D.value * D.value);
-        r.dalpha = (L.dalpha * D.value - L.value * D.dalpha) / (D.value * D.value);
-        res.functionals.push_back(r);
-    }
+    for (const std::string& name : o.functionals) res.functionals.push_back(baseOf(name == kRatio ? ratio : byName(name)));
     if (o.cornerRatioRho > 0) {
         FunctionalGradient r;
         r.name = kCornerRatio;

@@ -8,7 +8,8 @@
 //   mesh adjoint     g_A: the elasticity increments in reverse (Eq. 9) (mesh::moveControlGridAdjoint)
 //   first level      dJ/dv = (dA/dB dB/dv)^T g_A                       (ffd::FfdModel::dUniqueDv)
 //   angle of attack  dJ/dalpha = dJ/dalpha|_q + psi^T dR/dalpha
-// One flow linearization serves every functional; a ratio (CL/CD) is the quotient rule on two.
+// One flow linearization serves every functional; a ratio (CL/CD) is differentiated as its
+// linearization at the state, a combination of CL and CD: one adjoint, not two.
 // The cost does not depend on the number of design variables.
 #include <string>
 #include <vector>
@@ -48,7 +49,7 @@ struct GradientResult {
     bool ok = false;
     std::string message;  // the reason when not ok
     std::vector<FunctionalGradient> functionals;
-    std::vector<adjoint::LinearSolveReport> adjoints;   // per base functional (CL, CD, ...)
+    std::vector<adjoint::LinearSolveReport> adjoints;   // per adjoint solved (one per functional)
     mesh::MeshAdjointReport meshAdjoint;                // all base functionals at once
     double secondsLinearization = 0, secondsAdjoint = 0, secondsGrid = 0, secondsMesh = 0, secondsChain = 0;
     std::size_t historyBytes = 0;  // the forward move's stored increments
