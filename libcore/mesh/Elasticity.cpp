@@ -173,6 +173,73 @@ T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o) {
     return e;
 }
 
+double cellModulusGradient(const double* x, double meanVolume, const ElasticityOptions& o, double* dE,
+                           double* dVolume, double* volume) {
+    // Volume: sum over the Gauss points of det J, d det J / dx_a,r = det J G_a,r (G = dN J^-1).
+    double vol = 0;
+    for (int i = 0; i < 24; ++i) dVolume[i] = 0;
+    for (int qp = 0; qp < 8; ++qp) {
+        double G[8][3];
+        const double det = gaussGradients(x, qp, G);
+        vol += det;
+        for (int a = 0; a < 8; ++a) {
+            for (int r = 0; r < 3; ++r) dVolume[3 * a + r] += det * G[a][r];
+        }
+    }
+    // Corner scaled Jacobians q_a = det[e1 e2 e3] / (|e1| |e2| |e3|), edges e_d = s_d (x_nb - x_a):
+    // dq/de1 = (e2 x e3) / L - q e1 / |e1|^2 (and cyclically).
+    const int nb[8][3] = {{1, 3, 4}, {0, 2, 5}, {3, 1, 6}, {2, 0, 7}, {5, 7, 0}, {4, 6, 1}, {7, 5, 2}, {6, 4, 3}};
+    double q[8], dq[8][24] = {};
+    for (int a = 0; a < 8; ++a) {
+        Eigen::Vector3d e[3];
+        double len[3];
+        bool degenerate = false;
+        for (int d = 0; d < 3; ++d) {
+            const double sign = (kCorner[a][d] < 0) ? 1.0 : -1.0;
+            for (int c = 0; c < 3; ++c) e[d][c] = sign * (x[3 * nb[a][d] + c] - x[3 * a + c]);
+            len[d] = e[d].norm();
+            degenerate = degenerate || len[d] == 0;
+        }
+        if (degenerate) {
+            // A zero edge: cornerScaledJacobians keeps the zero column, q = 0, and so do we
+            // (a degenerate cell has no derivative worth having).
+            q[a] = 0;
+            continue;
+        }
+        const double L = len[0] * len[1] * len[2];
+        q[a] = e[0].dot(e[1].cross(e[2])) / L;
+        for (int d = 0; d < 3; ++d) {
+            const Eigen::Vector3d g = e[(d + 1) % 3].cross(e[(d + 2) % 3]) / L - q[a] * e[d] / (len[d] * len[d]);
+            const double sign = (kCorner[a][d] < 0) ? 1.0 : -1.0;
+            for (int c = 0; c < 3; ++c) {
+                dq[a][3 * nb[a][d] + c] += sign * g[c];
+                dq[a][3 * a + c] -= sign * g[c];
+            }
+        }
+    }
+    // Smooth minimum: o = lowest - log(mean_a exp(-r (q_a - lowest))) / r, do/dq_a = softmin weights.
+    double lowest = q[0];
+    for (int a = 1; a < 8; ++a) lowest = std::min(lowest, q[a]);
+    double w[8], sum = 0;
+    for (int a = 0; a < 8; ++a) sum += (w[a] = std::exp(-kOrthogonalitySharpness * (q[a] - lowest)));
+    const double orth = lowest - std::log(sum / 8.0) / kOrthogonalitySharpness;
+    // E = size * ortho, size = (mean / vol)^s (1 when vol <= 0), ortho = 1 + c (1 - clamp(orth, 0, 1)).
+    const double size = vol > 0 ? std::pow(meanVolume / vol, o.sizeStiffening) : 1.0;
+    const bool inside = orth >= 0 && orth <= 1;
+    const double qc = orth < 0 ? 0.0 : (orth > 1 ? 1.0 : orth);
+    const double ortho = 1.0 + o.orthogonalityStiffening * (1.0 - qc);
+    for (int i = 0; i < 24; ++i) {
+        double dOrth = 0;
+        if (inside) {
+            for (int a = 0; a < 8; ++a) dOrth += w[a] / sum * dq[a][i];
+        }
+        const double dSize = vol > 0 ? -o.sizeStiffening * size / vol * dVolume[i] : 0.0;
+        dE[i] = dSize * ortho - size * o.orthogonalityStiffening * dOrth;
+    }
+    if (volume) *volume = vol;
+    return size * ortho;
+}
+
 template <class T>
 void hexStiffness(const T* x, T E, double nu, T* K) {
     for (int i = 0; i < 24 * 24; ++i) K[i] = T(0.0);
@@ -608,8 +675,6 @@ std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh&
     // K_e = E(x, mean) K1_e(x) with K1 the stiffness of unit modulus, so for s = lambda^T K u
     //   ds/dx = E ds1/dx + s1 dE/dx,   ds/dmean = s1 dE/dmean = s1 E size_stiffening / mean,
     // and d mean/dx = (1/N) d vol/dx. dE/dx and d vol/dx are shared by all lambdas.
-    using C = std::complex<double>;
-    constexpr double h = 1e-30;
     const long cells = cellCount(m);
     const double mean = meanCellVolume(m);
     const std::size_t nl = lambdas.size();
@@ -630,26 +695,19 @@ std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh&
                 active[p] = active[p] || le[p][r] != 0;
             }
         }
-        const double E = cellModulus(x, mean, o);
-        double vol0 = 0, q0 = 0;
-        cellMetrics(x, vol0, q0);
+        double dE[24];
+        double* dv = &dVol[24 * static_cast<std::size_t>(cell)];
+        double vol0 = 0;
+        const double E = cellModulusGradient(x, mean, o, dE, dv, &vol0);
         std::vector<double> s1(nl, 0.0);
         std::vector<std::array<double, 24>> ds1(nl);
         for (std::size_t p = 0; p < nl; ++p) {
             if (active[p]) s1[p] = hexBilinearGradient(x, o.poisson, le[p].data(), ue, ds1[p].data());
         }
-        C xc[24];
-        for (int i = 0; i < 24; ++i) xc[i] = x[i];
         for (int i = 0; i < 24; ++i) {
-            xc[i] += C(0.0, h);
-            const double dE = cellModulus<C>(xc, C(mean), o).imag() / h;
-            C vol, q;
-            cellMetrics(xc, vol, q);
-            dVol[24 * static_cast<std::size_t>(cell) + i] = vol.imag() / h;
             for (std::size_t p = 0; p < nl; ++p) {
-                if (active[p]) parts[p].of(cell)[i] = E * ds1[p][i] + s1[p] * dE;
+                if (active[p]) parts[p].of(cell)[i] = E * ds1[p][i] + s1[p] * dE[i];
             }
-            xc[i] = x[i];
         }
         if (vol0 > 0 && o.sizeStiffening != 0) {
             for (std::size_t p = 0; p < nl; ++p) dMeanOfCell[nl * cell + p] = s1[p] * E * o.sizeStiffening / mean;

@@ -78,6 +78,15 @@ T cellOrthogonality(const T* x);
 template <class T>
 T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o);
 
+/// cellModulus and its exact derivatives with respect to the 24 corner coordinates, analytic
+/// (the volume's through the Gauss points' cofactors, the corners' scaled Jacobians through their
+/// edges, the smooth minimum through its weights): the mesh adjoint's inner loop, where complex
+/// step cost 48 complex cell evaluations per cell. dE and dVolume: 24 values each (the cell
+/// volume's derivative is a by-product the mean volume's term needs; `volume`, if given, gets the
+/// volume itself). Returns E.
+double cellModulusGradient(const double* x, double meanVolume, const ElasticityOptions& o, double* dE,
+                           double* dVolume, double* volume = nullptr);
+
 /// Young's modulus of every control cell of block `b` (in the block's cell order) for grid b.
 std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o,
                                   double meanVolume);

@@ -120,6 +120,37 @@ TEST(Elasticity, CellModulusDerivativeAgreesWithComplexStep) {
     EXPECT_NEAR(cellModulus<double>(x, mean, o), cellModulus<std::complex<double>>(xc.data(), mean, o).real(), 1e-14);
 }
 
+// The mesh adjoint's analytic modulus and volume derivatives (cellModulusGradient) against
+// complex step of cellModulus and cellMetrics, on a distorted cell (orthogonality active) and a
+// cube (orthogonality exactly 1, the end of the clamp's range), with the size stiffening off, on
+// and doubled.
+TEST(Elasticity, AnalyticModulusGradientAgreesWithComplexStep) {
+    const double distorted[24] = {0, 0, 0, 1.1, 0, 0, 1, 1.2, 0, 0, 1, 0.1, 0, 0, 1, 1, 0, 1, 1.3, 1, 1, 0, 1, 1.1};
+    const double cube[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    for (const double* x : {distorted, cube}) {
+        for (double size : {1.0, 0.0, 2.0}) {
+            ElasticityOptions o;
+            o.sizeStiffening = size;
+            o.orthogonalityStiffening = 1.5;
+            const double mean = 0.8;
+            double dE[24], dV[24], volume = 0;
+            const double E = cellModulusGradient(x, mean, o, dE, dV, &volume);
+            EXPECT_NEAR(E, cellModulus<double>(x, mean, o), 1e-14);
+            for (int i = 0; i < 24; ++i) {
+                std::complex<double> xc[24];
+                for (int k = 0; k < 24; ++k) xc[k] = x[k];
+                xc[i] += std::complex<double>(0, 1e-30);
+                const double cs = cellModulus<std::complex<double>>(xc, mean, o).imag() / 1e-30;
+                std::complex<double> v, q;
+                cellMetrics(xc, v, q);
+                EXPECT_NEAR(volume, v.real(), 1e-14);
+                EXPECT_NEAR(dE[i], cs, 1e-12 * (1 + std::abs(cs))) << "coordinate " << i << ", size " << size;
+                EXPECT_NEAR(dV[i], v.imag() / 1e-30, 1e-13) << "coordinate " << i;
+            }
+        }
+    }
+}
+
 TEST(Elasticity, PatchTestReproducesALinearField) {
     // Uniform modulus (no stiffening): a linear displacement on the boundary gives the same linear
     // field inside (constant strain is an exact FE solution).
