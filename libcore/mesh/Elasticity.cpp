@@ -1,6 +1,8 @@
 #include "mesh/Elasticity.h"
 
 #include <Eigen/CholmodSupport>
+#include <array>
+#include <limits>
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
@@ -333,6 +335,100 @@ std::vector<char> boundaryConstraints(const MultiBlockMesh& m) {
 
 namespace {
 
+// Every control cell of every block in order (blocks, then k, j, i), with its corner nodes.
+struct CellList {
+    std::vector<int> nodes;         // 8 per cell, VTK order
+    std::vector<int> block;         // per cell
+    std::vector<std::array<int, 3>> index;  // per cell, (i, j, k) in its block
+    long count() const { return static_cast<long>(block.size()); }
+};
+
+CellList listCells(const MultiBlockMesh& m) {
+    CellList l;
+    for (std::size_t bi = 0; bi < m.blocks.size(); ++bi) {
+        const ControlBlock& b = m.blocks[bi];
+        const int off[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+        for (int k = 0; k + 1 < b.count[2]; ++k) {
+            for (int j = 0; j + 1 < b.count[1]; ++j) {
+                for (int i = 0; i + 1 < b.count[0]; ++i) {
+                    for (int a = 0; a < 8; ++a) l.nodes.push_back(b.nodes[b.local(i + off[a][0], j + off[a][1], k + off[a][2])]);
+                    l.block.push_back(static_cast<int>(bi));
+                    l.index.push_back({i, j, k});
+                }
+            }
+        }
+    }
+    return l;
+}
+
+// The structure of K_ff for one control grid's topology and constraints, built once per move (or
+// mesh adjoint) and reused by every increment: the free DOFs, the compressed pattern, and where
+// each entry (r, c) of each cell's 24 x 24 matrix goes (a value slot, a right-hand-side term for a
+// constrained column, or nowhere for a constrained row). Assembly is then a parallel pass over the
+// cells' element matrices and one ordered scatter: no triplets sorted every increment, and the
+// same sums in the same order as Eigen's setFromTriplets (bitwise the same K).
+struct StiffnessLayout {
+    CellList cells;
+    std::vector<int> freeIndex;  // per DOF: its free index, -1 when constrained
+    int nfree = 0;
+    Eigen::SparseMatrix<double> pattern;  // K_ff's pattern (zero values), compressed
+    std::vector<int> slot;  // per cell, 24 x 24: >= 0 value index; -1 - g: column DOF g is
+                            // constrained (rhs); kNowhere: the row is constrained
+    static constexpr int kNowhere = std::numeric_limits<int>::min();
+};
+
+StiffnessLayout makeLayout(const MultiBlockMesh& m, const std::vector<char>& constrained) {
+    StiffnessLayout L;
+    L.cells = listCells(m);
+    const int ndof = static_cast<int>(m.control.size());
+    L.freeIndex.assign(ndof, -1);
+    for (int d = 0; d < ndof; ++d) {
+        if (!constrained[d]) L.freeIndex[d] = L.nfree++;
+    }
+    const long cells = L.cells.count();
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(cells) * 300);
+    for (long c = 0; c < cells; ++c) {
+        const int* nodes = &L.cells.nodes[8 * c];
+        for (int row = 0; row < 24; ++row) {
+            const int fr = L.freeIndex[3 * nodes[row / 3] + row % 3];
+            if (fr < 0) continue;
+            for (int col = 0; col < 24; ++col) {
+                const int fc = L.freeIndex[3 * nodes[col / 3] + col % 3];
+                if (fc >= 0) triplets.emplace_back(fr, fc, 0.0);
+            }
+        }
+    }
+    L.pattern.resize(L.nfree, L.nfree);
+    L.pattern.setFromTriplets(triplets.begin(), triplets.end());
+    L.pattern.makeCompressed();
+    L.slot.assign(static_cast<std::size_t>(cells) * 576, StiffnessLayout::kNowhere);
+    const int* outer = L.pattern.outerIndexPtr();
+    const int* inner = L.pattern.innerIndexPtr();
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < cells; ++c) {
+        const int* nodes = &L.cells.nodes[8 * c];
+        for (int row = 0; row < 24; ++row) {
+            const int fr = L.freeIndex[3 * nodes[row / 3] + row % 3];
+            if (fr < 0) continue;
+            for (int col = 0; col < 24; ++col) {
+                const int gc = 3 * nodes[col / 3] + col % 3;
+                const int fc = L.freeIndex[gc];
+                int& out = L.slot[576 * static_cast<std::size_t>(c) + 24 * row + col];
+                if (fc < 0) {
+                    out = -1 - gc;
+                    continue;
+                }
+                // Column-major: the entries of column fc, rows sorted.
+                const int* first = inner + outer[fc];
+                const int* last = inner + outer[fc + 1];
+                out = static_cast<int>(std::lower_bound(first, last, fr) - inner);
+            }
+        }
+    }
+    return L;
+}
+
 // K restricted to the free DOFs and the right-hand side -K_fc u_c of one increment, at the current
 // control grid; or the first inverted cell (nothing assembled).
 struct FreeSystem {
@@ -346,74 +442,79 @@ struct FreeSystem {
     std::string message;
 };
 
-FreeSystem assembleFree(const MultiBlockMesh& m, const std::vector<char>& constrained,
-                        const std::vector<double>& prescribed, const ElasticityOptions& o) {
+FreeSystem assembleFree(const MultiBlockMesh& m, const StiffnessLayout& L, const std::vector<double>& prescribed,
+                        const ElasticityOptions& o) {
     FreeSystem s;
-    const int ndof = static_cast<int>(m.control.size());
-    s.freeIndex.assign(ndof, -1);
-    for (int d = 0; d < ndof; ++d) {
-        if (!constrained[d]) s.freeIndex[d] = s.nfree++;
+    s.freeIndex = L.freeIndex;
+    s.nfree = L.nfree;
+    const long cells = L.cells.count();
+    s.cells = cells;
+    auto corners = [&](long c, double* x) {
+        for (int a = 0; a < 8; ++a) {
+            for (int d = 0; d < 3; ++d) x[3 * a + d] = m.control[3 * static_cast<std::size_t>(L.cells.nodes[8 * c + a]) + d];
+        }
+    };
+    // Cell volumes in parallel; the mean (the size-stiffening reference) summed in cell order. A
+    // cell with non-positive volume has no stiffness of the right sign: report the first instead
+    // of assembling an indefinite K.
+    std::vector<double> volume(cells);
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < cells; ++c) {
+        double x[24], q = 0;
+        corners(c, x);
+        cellMetrics(x, volume[c], q);
     }
-    // Mean control-cell volume (the size-stiffening reference); a cell with non-positive volume
-    // has no stiffness of the right sign: report it instead of assembling an indefinite K.
     double total = 0;
-    for (std::size_t bi = 0; bi < m.blocks.size() && !s.invalidCell; ++bi) {
-        const ControlBlock& b = m.blocks[bi];
-        long cell = 0;
-        forEachCell(m, b, [&](const double* x, const int*) {
-            double vol = 0, q = 0;
-            cellMetrics(x, vol, q);
-            if (!(vol > 0) && !s.invalidCell) {
-                const int ni = b.count[0] - 1, nj = b.count[1] - 1;
-                const int ci = static_cast<int>(cell % ni), cj = static_cast<int>((cell / ni) % nj),
-                          ck = static_cast<int>(cell / (static_cast<long>(ni) * nj));
-                double centre[3] = {0, 0, 0};
-                for (int a = 0; a < 8; ++a) {
-                    for (int d = 0; d < 3; ++d) centre[d] += x[3 * a + d] / 8.0;
-                }
-                char buf[320];
-                std::snprintf(buf, sizeof buf,
-                              "control cell (%d, %d, %d) of block '%s' near (%.4g, %.4g, %.4g) has volume %.3g (inverted)",
-                              ci, cj, ck, b.name.c_str(), centre[0], centre[1], centre[2], vol);
-                s.invalidCell = true;
-                s.message = buf;
+    for (long c = 0; c < cells; ++c) {
+        const double vol = volume[c];
+        if (!(vol > 0)) {
+            double x[24], centre[3] = {0, 0, 0};
+            corners(c, x);
+            for (int a = 0; a < 8; ++a) {
+                for (int d = 0; d < 3; ++d) centre[d] += x[3 * a + d] / 8.0;
             }
-            total += vol;
-            ++s.cells;
-            ++cell;
-        });
+            const std::array<int, 3>& ijk = L.cells.index[c];
+            char buf[320];
+            std::snprintf(buf, sizeof buf,
+                          "control cell (%d, %d, %d) of block '%s' near (%.4g, %.4g, %.4g) has volume %.3g (inverted)",
+                          ijk[0], ijk[1], ijk[2], m.blocks[L.cells.block[c]].name.c_str(), centre[0], centre[1], centre[2],
+                          vol);
+            s.invalidCell = true;
+            s.message = buf;
+            return s;
+        }
+        total += vol;
     }
-    if (s.invalidCell) return s;
-    s.meanVolume = total / std::max(1L, s.cells);
-
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(s.cells) * 300);
+    s.meanVolume = total / std::max(1L, cells);
+    // Element matrices in parallel, then one scatter in cell order.
+    std::vector<double> Ke(static_cast<std::size_t>(cells) * 576);
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < cells; ++c) {
+        double x[24];
+        corners(c, x);
+        hexStiffness<double>(x, cellModulus(x, s.meanVolume, o), o.poisson, &Ke[576 * static_cast<std::size_t>(c)]);
+    }
+    s.A = L.pattern;
+    double* values = s.A.valuePtr();
     s.rhs = Eigen::VectorXd::Zero(s.nfree);
-    for (std::size_t bi = 0; bi < m.blocks.size(); ++bi) {
-        const std::vector<double> E = cellStiffness(m, static_cast<int>(bi), o, s.meanVolume);
-        double K[24 * 24];
-        std::size_t cell = 0;
-        forEachCell(m, m.blocks[bi], [&](const double* x, const int* nodes) {
-            hexStiffness<double>(x, E[cell++], o.poisson, K);
-            for (int row = 0; row < 24; ++row) {
-                const int gr = 3 * nodes[row / 3] + row % 3;
-                const int fr = s.freeIndex[gr];
-                if (fr < 0) continue;
-                for (int c = 0; c < 24; ++c) {
-                    const int gc = 3 * nodes[c / 3] + c % 3;
-                    const int fc = s.freeIndex[gc];
-                    const double v = K[row * 24 + c];
-                    if (fc >= 0) {
-                        triplets.emplace_back(fr, fc, v);
-                    } else {
-                        s.rhs[fr] -= v * prescribed[gc];
-                    }
+    for (long c = 0; c < cells; ++c) {
+        const int* nodes = &L.cells.nodes[8 * c];
+        const double* K = &Ke[576 * static_cast<std::size_t>(c)];
+        const int* slot = &L.slot[576 * static_cast<std::size_t>(c)];
+        for (int row = 0; row < 24; ++row) {
+            if (slot[24 * row] == StiffnessLayout::kNowhere) continue;
+            const int fr = L.freeIndex[3 * nodes[row / 3] + row % 3];
+            for (int col = 0; col < 24; ++col) {
+                const int t = slot[24 * row + col];
+                const double v = K[24 * row + col];
+                if (t >= 0) {
+                    values[t] += v;
+                } else {
+                    s.rhs[fr] -= v * prescribed[static_cast<std::size_t>(-1 - t)];
                 }
             }
-        });
+        }
     }
-    s.A.resize(s.nfree, s.nfree);
-    s.A.setFromTriplets(triplets.begin(), triplets.end());
     return s;
 }
 
@@ -485,12 +586,14 @@ private:
 
 }  // namespace
 
-IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
-                                const std::vector<double>& prescribed, const ElasticityOptions& o,
-                                const std::vector<double>* initial) {
+namespace {
+
+IncrementResult solveIncrement(const MultiBlockMesh& m, const StiffnessLayout& layout, const std::vector<char>& constrained,
+                               const std::vector<double>& prescribed, const ElasticityOptions& o,
+                               const std::vector<double>* initial) {
     const int ndof = static_cast<int>(m.control.size());
     IncrementResult r;
-    FreeSystem s = assembleFree(m, constrained, prescribed, o);
+    FreeSystem s = assembleFree(m, layout, prescribed, o);
     if (s.invalidCell) {
         r.invalidCell = true;
         r.message = s.message;
@@ -508,6 +611,14 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
     r.u.assign(ndof, 0.0);
     for (int d = 0; d < ndof; ++d) r.u[d] = s.freeIndex[d] >= 0 ? sol[s.freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
     return r;
+}
+
+}  // namespace
+
+IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
+                                const std::vector<double>& prescribed, const ElasticityOptions& o,
+                                const std::vector<double>* initial) {
+    return solveIncrement(m, makeLayout(m, constrained), constrained, prescribed, o, initial);
 }
 
 MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface, const ElasticityOptions& o,
@@ -528,6 +639,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
     rep.freeDofs = 0;
     for (char c : constrained) rep.freeDofs += c ? 0 : 1;
     if (history) *history = {};
+    const StiffnessLayout layout = makeLayout(m, constrained);
     std::vector<double> previous;
     for (int inc = 1; inc <= o.increments; ++inc) {
         if (cancel && cancel->load()) {
@@ -538,7 +650,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         // Each increment prescribes 1/m of the wall motion relative to the current grid.
         std::vector<double> prescribed(m.control.size(), 0.0);
         for (std::size_t d = 0; d < delta.size(); ++d) prescribed[d] = delta[d] / o.increments;
-        const IncrementResult r = solveElasticity(m, constrained, prescribed, o, previous.empty() ? nullptr : &previous);
+        const IncrementResult r = solveIncrement(m, layout, constrained, prescribed, o, previous.empty() ? nullptr : &previous);
         if (r.invalidCell) {
             rep.status = SolveStatus::InvalidCell;
             rep.message = "increment " + std::to_string(inc) + " of " + std::to_string(o.increments) + ": " + r.message +
@@ -765,6 +877,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
         }
     }
     const std::vector<char> constrained = boundaryConstraints(m);
+    const StiffnessLayout layout = makeLayout(m, constrained);
     MultiBlockMesh grid = m;  // structure; the control points of each increment from the history
     const std::vector<double> zero(ndof, 0.0);
     for (int inc = increments; inc >= 1 && rep.converged; --inc) {
@@ -773,7 +886,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
         // b^(i) = b^(i-1) + u^(i): ubar = gb. u_f solves K_ff u_f = -K_fc u_c, so
         // K_ff lambda = ubar_f, the prescribed values get ubar_c - (K lambda)_c, and b^(i-1) gets
         // -d(lambda^T K u)/db. One K and one factorization for all right-hand sides.
-        FreeSystem s = assembleFree(grid, constrained, zero, o);
+        FreeSystem s = assembleFree(grid, layout, zero, o);
         if (s.invalidCell) {
             rep.converged = false;
             rep.message = "increment " + std::to_string(inc) + ": " + s.message;
