@@ -40,30 +40,35 @@ double dot(long n, const double* a, const double* b, std::vector<double>& partia
     return s;
 }
 
-// One classical Gram-Schmidt pass, twice (CGS2): h[i] += V_i . w, then w -= sum_i h_i V_i, for
-// the k vectors V[0..k). Returns ||w|| after the second pass.
+// Classical Gram-Schmidt against the k vectors V[0..k): h = V^T w, w -= V h, repeated once when
+// the first pass cancelled most of w (the Daniel-Gragg-Kaufman-Stewart test: ||w|| fell below
+// 1/sqrt(2) of its length before; "twice is enough"). Returns ||w||. Each pass is one sweep over
+// the basis for the dot products and one for the update, in fixed row chunks.
 double orthogonalize(long n, const std::vector<double*>& V, int k, double* w, double* h,
                      std::vector<double>& partial) {
     const long chunks = chunkCount(n);
     const int width = k + 1;  // k dot products and the squared norm
     partial.assign(static_cast<std::size_t>(chunks * width), 0.0);
     std::vector<double> g(width), total(k, 0.0);
-    // Pass 1: the dot products only.
+    // The dot products, and ||w||^2 before the pass.
+    auto project = [&] {
 #pragma omp parallel for schedule(static)
-    for (long c = 0; c < chunks; ++c) {
-        const long first = c * kChunk, end = std::min(n, first + kChunk);
-        for (int i = 0; i < k; ++i) {
-            const double* v = V[i];
+        for (long c = 0; c < chunks; ++c) {
+            const long first = c * kChunk, end = std::min(n, first + kChunk);
+            for (int i = 0; i < k; ++i) {
+                const double* v = V[i];
+                double s = 0;
+                for (long l = first; l < end; ++l) s += v[l] * w[l];
+                partial[static_cast<std::size_t>(c * width + i)] = s;
+            }
             double s = 0;
-            for (long l = first; l < end; ++l) s += v[l] * w[l];
-            partial[static_cast<std::size_t>(c * width + i)] = s;
+            for (long l = first; l < end; ++l) s += w[l] * w[l];
+            partial[static_cast<std::size_t>(c * width + k)] = s;
         }
-    }
-    sumChunks(partial, chunks, width, g.data());
-    for (int pass = 0; pass < 2; ++pass) {
-        for (int i = 0; i < k; ++i) total[i] += g[i];
-        // Subtract this pass's projection, then take the next pass's dot products (or, after
-        // the second pass, the norm) while the chunk is in cache.
+        sumChunks(partial, chunks, width, g.data());
+    };
+    // w -= V g, and ||w||^2 after.
+    auto subtract = [&] {
 #pragma omp parallel for schedule(static)
         for (long c = 0; c < chunks; ++c) {
             const long first = c * kChunk, end = std::min(n, first + kChunk);
@@ -72,23 +77,25 @@ double orthogonalize(long n, const std::vector<double*>& V, int k, double* w, do
                 const double gi = g[i];
                 for (long l = first; l < end; ++l) w[l] -= gi * v[l];
             }
-            if (pass == 0) {
-                for (int i = 0; i < k; ++i) {
-                    const double* v = V[i];
-                    double s = 0;
-                    for (long l = first; l < end; ++l) s += v[l] * w[l];
-                    partial[static_cast<std::size_t>(c * width + i)] = s;
-                }
-            } else {
-                double s = 0;
-                for (long l = first; l < end; ++l) s += w[l] * w[l];
-                partial[static_cast<std::size_t>(c * width + k)] = s;
-            }
+            double s = 0;
+            for (long l = first; l < end; ++l) s += w[l] * w[l];
+            partial[static_cast<std::size_t>(c * width + k)] = s;
         }
-        sumChunks(partial, chunks, width, g.data());
+        double s = 0;
+        for (long c = 0; c < chunks; ++c) s += partial[static_cast<std::size_t>(c * width + k)];
+        return s;
+    };
+    project();
+    const double before = g[k];
+    for (int i = 0; i < k; ++i) total[i] += g[i];
+    double after = subtract();
+    if (after < 0.5 * before) {  // ||w|| fell below 1/sqrt(2) of its length: once more
+        project();
+        for (int i = 0; i < k; ++i) total[i] += g[i];
+        after = subtract();
     }
     for (int i = 0; i < k; ++i) h[i] = total[i];
-    return std::sqrt(g[k]);
+    return std::sqrt(after);
 }
 
 void scale(long n, double* v, double a) {

@@ -3,10 +3,10 @@
 // so the monitored residual is the true ||b - A x||. Operators are callables out = Op(in) on
 // vectors of length n.
 //
-// Orthogonalization is classical Gram-Schmidt applied twice (CGS2: as stable as modified
-// Gram-Schmidt, but each pass is one sweep over the basis in fixed row chunks, so an iteration
-// costs four parallel regions instead of two per basis vector, and the sums do not depend on the
-// thread count). Optionally the restarts are deflated (GMRES-DR, Morgan 2002): each cycle keeps
+// Orthogonalization is classical Gram-Schmidt with a second pass when the first cancelled most of
+// the vector (the DGKS test; as stable as modified Gram-Schmidt, but each pass is two sweeps over
+// the basis in fixed row chunks, so an iteration costs two to four parallel regions instead of
+// two per basis vector, and the sums do not depend on the thread count). Optionally the restarts are deflated (GMRES-DR, Morgan 2002): each cycle keeps
 // the harmonic Ritz vectors of the `deflation` smallest harmonic Ritz values, so the slow
 // eigencomponents found in one cycle are not lost at the restart (a restarted GMRES(60) on the
 // flow's adjoint systems needs about twice the iterations of an unrestarted one; docs/performance.md).
