@@ -85,6 +85,14 @@ std::string meshKey(const io::CaseFile& c) {
     return io::formatCase(k);
 }
 
+// Canonical text of the case's flow options.
+std::string flowKey(const io::CaseFile& c) {
+    io::CaseFile k;
+    k.flow = c.flow;
+    k.flow.present = true;
+    return io::formatCase(k);
+}
+
 std::array<int, 3> unflatten(const ffd::Lattice& L, int a) {
     return {a % L.count[0], (a / L.count[0]) % L.count[1], a / (L.count[0] * L.count[1])};
 }
@@ -428,6 +436,7 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     const bool structure = b.model != nullptr || (!b.hasModel && model_ != nullptr);
     const bool valuesDiffer = b.values != values_;
     const bool meshDiffers = meshKey(next) != meshKey(case_);
+    const bool flowDiffers = flowKey(next) != flowKey(case_);
     case_ = std::move(next);
     if (b.model) {
         model_ = std::move(b.model);
@@ -445,6 +454,7 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     if (structure) emit structureChanged();
     if (valuesDiffer || structure) emit valuesChanged();
     if (meshDiffers) emit meshOptionsChanged();
+    if (flowDiffers) emit flowOptionsChanged();
     showLattices(std::move(b.moved));
 }
 
@@ -644,6 +654,26 @@ void Document::setMeshOptions(const std::string& level, int increments) {
     next.mesh.present = true;
     if (meshKey(next) == meshKey(case_)) return;  // e.g. the level chosen again
     edit(tr("Set mesh level %1, %2").arg(QString::fromStdString(level), counted(increments, tr("increment"), tr("increments"))), next);
+}
+
+void Document::setOption(Section section, const std::string& key, const io::OptionValue& value) {
+    io::CaseFile next = case_;
+    auto apply = [&](const auto& table, auto& target, const char* name) {
+        const auto& option = io::findOption(table, key);  // a programming error for an unknown key
+        if (const std::string why = option.spec.check(value); !why.empty())
+            throw CaseError(std::string(name) + "." + key + ": " + why);
+        option.set(target, value);
+        target.present = true;
+    };
+    if (section == Section::Flow)
+        apply(io::flowOptions(), next.flow, "flow");
+    else
+        apply(io::meshOptions(), next.mesh, "mesh");
+    if (section == Section::Flow ? flowKey(next) == flowKey(case_) : meshKey(next) == meshKey(case_)) return;
+    edit(tr("Set %1.%2 = %3")
+             .arg(section == Section::Flow ? QStringLiteral("flow") : QStringLiteral("mesh"), QString::fromStdString(key),
+                  QString::fromStdString(io::formatOptionValue(value))),
+         next);
 }
 
 // ---- Preview ----------------------------------------------------------------------------------

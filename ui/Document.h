@@ -25,6 +25,7 @@
 
 #include "ffd/Injectivity.h"
 #include "io/CaseFile.h"
+#include "io/Options.h"
 
 class QUndoStack;
 
@@ -133,6 +134,14 @@ class Document : public QObject {
     /// unknown level. No-op when nothing changes.
     void setMeshOptions(const std::string& level, int increments);
 
+    /// The case sections whose options are self-describing (io/Options.h).
+    enum class Section { Flow, Mesh };
+    /// Sets option `key` of the case's flow or mesh section to `value`, checked as the case parser
+    /// checks it (CaseError naming the key and its range). The section becomes present (it is
+    /// written to the project). Mesh "level" resets the grid options to the level's, as in a case
+    /// file. One undoable step; no-op when nothing changes.
+    void setOption(Section section, const std::string& key, const io::OptionValue& value);
+
     /// Displacement of a lattice point in the case (zero if none).
     std::array<double, 3> displacement(int l, int point) const;
 
@@ -160,6 +169,8 @@ class Document : public QObject {
     void valuesChanged();
     /// The case's mesh options (caseFile().mesh) changed.
     void meshOptionsChanged();
+    /// The case's flow options (caseFile().flow) changed.
+    void flowOptionsChanged();
     /// injectivity() or failed points changed; problems() says what is wrong.
     void diagnosticsChanged();
     void modifiedChanged(bool modified);
