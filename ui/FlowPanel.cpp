@@ -81,6 +81,7 @@ FlowPanel::FlowPanel(QWidget* parent) : QWidget(parent) {
     solve_->setObjectName(QStringLiteral("flowSolveButton"));
     solve_->setToolTip(tr("Solve the flow around the shape as shown: grid, mesh movement, Euler solution (F5)"));
     continue_ = new QPushButton(tr("Continue"), runBox);
+    continue_->setMinimumWidth(continue_->sizeHint().width());
     continue_->setObjectName(QStringLiteral("flowContinueButton"));
     continue_->setToolTip(tr("Continue the run that was stopped, from the state it kept (its restart file)"));
     continue_->setEnabled(false);
@@ -174,24 +175,24 @@ FlowPanel::FlowPanel(QWidget* parent) : QWidget(parent) {
     contourRow->addWidget(contours_);
     contourRow->addWidget(contourCount_, 1);
     dform->addRow(tr("Lines"), contourRow);
-    auto* partRow = new QHBoxLayout;
+    auto* partRow = new QGridLayout;  // two by two: the dock is narrow
     for (auto [part, label, on] : {std::tuple{FlowPart::Wall, tr("Wall"), true}, std::tuple{FlowPart::Symmetry, tr("Symmetry"), true},
                                    std::tuple{FlowPart::Slice, tr("Slice"), false}, std::tuple{FlowPart::Sections, tr("Sections"), true}}) {
         auto* box = new QCheckBox(label, display_);
         box->setObjectName(QStringLiteral("flowPart%1").arg(static_cast<int>(part)));
         box->setChecked(on);
-        partRow->addWidget(box);
+        partRow->addWidget(box, static_cast<int>(parts_.size()) / 2, static_cast<int>(parts_.size()) % 2);
         parts_.push_back({static_cast<int>(part), box});
         connect(box, &QCheckBox::toggled, this, [this, part](bool shown) { emit partToggled(part, shown); });
     }
-    partRow->addStretch(1);
     dform->addRow(tr("Show"), partRow);
     auto* sliceRow = new QHBoxLayout;
     sliceAxis_ = new QComboBox(display_);
     sliceAxis_->setObjectName(QStringLiteral("flowSliceAxis"));
-    sliceAxis_->addItem(tr("x = const (streamwise)"), 0);
-    sliceAxis_->addItem(tr("y = const (spanwise)"), 1);
-    sliceAxis_->addItem(tr("z = const (vertical)"), 2);
+    sliceAxis_->addItem(tr("x (streamwise)"), 0);
+    sliceAxis_->addItem(tr("y (spanwise)"), 1);
+    sliceAxis_->addItem(tr("z (vertical)"), 2);
+    sliceAxis_->setToolTip(tr("The slice is the plane where this coordinate is constant"));
     sliceAxis_->setCurrentIndex(0);
     slicePosition_ = new QSlider(Qt::Horizontal, display_);
     slicePosition_->setObjectName(QStringLiteral("flowSlicePosition"));

@@ -194,7 +194,7 @@ void MainWindow::createDocks() {
     residualDock->hide();
     sectionDock->hide();
 
-    resizeDocks({treeDock, varDock}, {260, 320}, Qt::Horizontal);
+    resizeDocks({treeDock, varDock}, {250, 340}, Qt::Horizontal);
     resizeDocks({treeDock, propDock}, {200, 420}, Qt::Vertical);
 
     connect(tree_, &ModelTree::geometryVisibilityChanged, this, [this](bool on) {
