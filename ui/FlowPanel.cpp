@@ -148,7 +148,9 @@ FlowPanel::FlowPanel(QWidget* parent) : QWidget(parent) {
     field_->setItemData(3, tr("p / (\u03c1\u221e a\u221e\u00b2): the free stream's is 1/\u03b3"), Qt::ToolTipRole);
     dform->addRow(tr("&Field"), field_);
     automatic_ = new QCheckBox(tr("Automatic"), display_);
-    automatic_->setToolTip(tr("The field's range on the wall and the symmetry plane; uncheck to choose one"));
+    automatic_->setToolTip(tr("The field's range on the wall and the symmetry plane (for the entropy the 1st to 99th "
+                              "percentile, since a few nodes at a blunt trailing edge would wash out the rest); "
+                              "uncheck to choose one"));
     automatic_->setObjectName(QStringLiteral("flowRangeAutomatic"));
     automatic_->setChecked(true);
     dform->addRow(tr("Range"), automatic_);

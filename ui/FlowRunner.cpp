@@ -21,6 +21,11 @@ QString num(double v, int digits = 3) {
     return QLocale().toString(v, 'g', digits);
 }
 
+// Seconds for people: "4.2", "96", "1,475".
+QString seconds(double s) {
+    return s >= 100 ? QLocale().toString(s, 'f', 0) : QLocale().toString(s, 'g', 2);
+}
+
 // The status bar's line and fraction for a report.
 QString statusLine(const FlowRunProgress& p) {
     if (!p.hasIteration) {
@@ -195,8 +200,8 @@ QString FlowRunner::stateText() const {
             return tr("Running: iteration %1").arg(acceptedIterations());
         case State::Converged:
             return tr("Converged in %1 (%2 s): residual %3 of the start")
-                .arg(iterations == 1 ? tr("1 iteration") : tr("%1 iterations").arg(iterations + offset))
-                .arg(num(r ? r->seconds : 0))
+                .arg(iterations + offset == 1 ? tr("1 iteration") : tr("%1 iterations").arg(iterations + offset))
+                .arg(seconds(r ? r->seconds : 0))
                 .arg(r && r->flow && r->flow->report.initialResidual > 0
                          ? QString::number(r->flow->report.finalResidual / r->flow->report.initialResidual, 'e', 1)
                          : QStringLiteral("-"));

@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "flow/FlowMesh.h"
 
@@ -158,21 +159,38 @@ struct FlowScene::Impl {
 
     static std::size_t partSurface(FlowPart p) { return p == FlowPart::Wall ? 0 : p == FlowPart::Symmetry ? 1 : 2; }
 
-    std::pair<double, double> autoRange(FlowField f) const {
-        if (!result) return {0.0, 1.0};
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    std::array<std::pair<double, double>, kFlowFields> autoRanges{};  // per field, for the result
+
+    // The automatic colour range of field f: its range on the wall and the symmetry plane (the
+    // whole grid's without them); for the entropy the 1st to 99th percentile, since a few nodes
+    // at a blunt trailing edge or a stagnation point carry most of the error and would wash out
+    // everything else (beyond the range the end colours are used).
+    std::pair<double, double> computeAutoRange(FlowField f) const {
+        std::vector<double> values;
         for (std::size_t s = 0; s < 2; ++s) {
             vtkDataArray* a = surfaces[s] ? surfaces[s]->GetPointData()->GetArray(flowFieldKey(f)) : nullptr;
-            if (!a || a->GetNumberOfTuples() == 0) continue;
-            double r[2];
-            a->GetRange(r);
-            lo = std::min(lo, r[0]);
-            hi = std::max(hi, r[1]);
+            if (!a) continue;
+            for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) {
+                const double v = a->GetTuple1(i);
+                if (std::isfinite(v)) values.push_back(v);
+            }
         }
-        if (!(lo <= hi)) {  // no wall or symmetry plane: the whole field
-            const auto& r = result->range[static_cast<std::size_t>(f)];
-            lo = r[0];
-            hi = r[1];
+        double lo = 0, hi = 0;
+        if (values.empty()) {
+            lo = result->range[static_cast<std::size_t>(f)][0];
+            hi = result->range[static_cast<std::size_t>(f)][1];
+        } else if (f == FlowField::Entropy && values.size() >= 100) {
+            const auto at = [&values](double q) {
+                const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+                std::nth_element(values.begin(), values.begin() + k, values.end());
+                return values[static_cast<std::size_t>(k)];
+            };
+            lo = at(0.01);
+            hi = at(0.99);
+        } else {
+            const auto [mn, mx] = std::minmax_element(values.begin(), values.end());
+            lo = *mn;
+            hi = *mx;
         }
         if (!(hi > lo)) {
             const double pad = std::max(1e-12, 1e-6 * std::abs(lo));
@@ -180,6 +198,10 @@ struct FlowScene::Impl {
             hi += pad;
         }
         return {lo, hi};
+    }
+
+    std::pair<double, double> autoRange(FlowField f) const {
+        return result ? autoRanges[static_cast<std::size_t>(f)] : std::pair<double, double>{0.0, 1.0};
     }
 
     std::pair<double, double> range() const { return manualRange ? *manualRange : autoRange(field); }
@@ -357,6 +379,9 @@ void FlowScene::setResult(std::shared_ptr<const FlowRunResult> result) {
     }
     d.wallNormals->SetInputData(d.surfaces[0]);
     d.surfaceMappers[1]->SetInputData(d.surfaces[1]);
+    if (d.result)
+        for (int f = 0; f < kFlowFields; ++f)
+            d.autoRanges[static_cast<std::size_t>(f)] = d.computeAutoRange(static_cast<FlowField>(f));
     for (std::size_t s = 0; s < 2; ++s) d.contourFilters[s]->SetInputData(d.surfaces[s]);
     d.buildSlice();
     d.sectionMapper->SetInputData(vtkNew<vtkPolyData>());

@@ -7,7 +7,7 @@
 //   contour lines   iso-lines of the field on the parts shown (optional);
 //   section lines   the spanwise cuts of the wall the section view plots, drawn on the body;
 // with a colour bar naming the field over its range: the field's range on the wall and the
-// symmetry plane, or a range the user chose.
+// symmetry plane (the entropy's 1st to 99th percentile), or a range the user chose.
 //
 // The scene keeps the result it shows (shared, read-only). It also cuts the wall at spanwise
 // stations for the section view (vtkCutter: visualization, no numerics of our own). No VTK type
@@ -52,7 +52,8 @@ class FlowScene {
 
     void setField(FlowField field);
     FlowField field() const;
-    /// A fixed colour range; unset: the field's range on the wall and the symmetry plane.
+    /// A fixed colour range; unset: the field's range on the wall and the symmetry plane (for
+    /// the entropy its 1st to 99th percentile there: a few nodes would wash out the rest).
     void setRange(std::optional<std::pair<double, double>> range);
     /// The range the colours (and the colour bar) span now.
     std::pair<double, double> range() const;

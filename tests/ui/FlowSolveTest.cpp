@@ -41,6 +41,7 @@
 #include "FlowWorkspace.h"
 #include "JobRunner.h"
 #include "MainWindow.h"
+#include "MeshPreviewer.h"
 #include "OptionEditor.h"
 #include "PatchScene.h"
 #include "PlotWidget.h"
@@ -402,6 +403,10 @@ void FlowSolveTest::colourBarFollowsTheChosenField() {
     QVERIFY(ranges[2].first >= 0 && ranges[2].second < 1.0 && ranges[2].second > 0.5);
     QVERIFY(ranges[1].second > 0.8 && ranges[1].second < 1.1);
     QVERIFY(ranges[1] != ranges[2]);
+    // The entropy's automatic range is its bulk on the wall and symmetry plane (percentiles),
+    // inside the field's extremes.
+    const auto& extremes = runner().result()->range[static_cast<std::size_t>(FlowField::Entropy)];
+    QVERIFY(ranges[0].first >= extremes[0] && ranges[0].second <= extremes[1]);
     // A chosen range holds whatever the data; unchecking returns to the data's.
     panel().setField(FlowField::PressureCoefficient);
     panel().setChosenRange({-1.5, 1.0});
@@ -518,9 +523,16 @@ void FlowSolveTest::oneRunAtATime() {
     QVERIFY(!runner().start(&error));
     QVERIFY2(error.contains(QStringLiteral("one at a time")), qPrintable(error));
     QCOMPARE(window_->jobs().jobs().size(), 1);
-    // A mesh preview may run beside it (the runner holds several jobs).
+    // A mesh preview may run beside it (the runner holds several jobs, each with its own
+    // progress and Cancel in the status bar).
+    window_->actions().meshPreview->trigger();
+    QCOMPARE(window_->jobs().jobs().size(), 2);
+    QVERIFY(window_->jobs().running(QStringLiteral("mesh-preview")) != nullptr);
+    QVERIFY(window_->jobs().running(QStringLiteral("flow")) != nullptr);
     runner().stop();
     QCOMPARE(waitForEnd(), State::Stopped);
+    QVERIFY(QTest::qWaitFor([this] { return !window_->jobs().busy(); }, kSolveTimeoutMs));
+    window_->meshPreviewer().clear();
 }
 
 void FlowSolveTest::stopEndsTheRunQuicklyAndContinueResumesIt() {
