@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -120,9 +121,11 @@ FlowRunResult runFlowSolve(const FlowRunInput& in, const FlowRunProgressFn& prog
             if (!(lo <= hi)) lo = hi = 0;
             r.range[static_cast<std::size_t>(f)] = {lo, hi};
         }
-        // A run that stopped early keeps its state where a restart finds it (the CLI's rule).
+        // A run that stopped early keeps its state where a restart finds it (the CLI's rule); a
+        // converged one leaves no stale state to "continue" behind.
         const flow::FlowReport& rep = e.flow->report;
-        if (!rep.converged() && !rep.history.empty() && !in.restartTo.empty()) {
+        if (rep.converged() && !in.restartAlways && !in.restartTo.empty()) std::remove(in.restartTo.c_str());
+        if ((!rep.converged() || in.restartAlways) && !rep.history.empty() && !in.restartTo.empty()) {
             io::RestartInfo info;
             info.freeStream = e.flow->residualOptions.freeStream;
             info.iterations = (e.flow->restartContinued ? e.flow->previousIterations : 0) + rep.iterations;

@@ -45,6 +45,8 @@ struct FlowRunInput {
                                   // points, 3 each): what the result is compared with later
     std::string restartFrom;      // non-empty: continue from this restart file (same grid)
     std::string restartTo;        // non-empty: where a run that stops early keeps its state
+    bool restartAlways = false;   // ... and a converged one too (the case's output.restart);
+                                  // otherwise a converged run removes a stale file there
 };
 
 /// One report of a running solve (typed progress: JobContext<FlowRunProgress>).

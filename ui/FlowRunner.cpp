@@ -75,6 +75,7 @@ bool FlowRunner::start(QString* error, bool continueRun) {
     input->caseFile.flow.present = true;
     input->wall = document_->uniquePoints();
     input->restartTo = QFile::encodeName(restartPath()).toStdString();
+    input->restartAlways = !input->caseFile.outputRestart.empty();  // the case asks for it, as the CLI
     if (continueRun) {
         if (!canContinue()) {
             if (error) *error = tr("There is no stopped run to continue (no restart file).");
@@ -89,6 +90,7 @@ bool FlowRunner::start(QString* error, bool continueRun) {
     continued_ = continueRun;
     runningOptions_ = optionsKey();
     const quint64 generation = generation_;
+    runGeneration_ = generation_;
     QPointer<FlowRunner> self(this);
 
     JobSpec<FlowRunProgress> spec;
@@ -147,6 +149,10 @@ void FlowRunner::onJobFinished() {
     // called: a stopped run's state is shown too).
     std::shared_ptr<FlowRunResult> r = slot_ ? *slot_ : nullptr;
     slot_.reset();
+    if (runGeneration_ != generation_) {  // the run belonged to a document since replaced
+        emit stateChanged(state_);         // (None) but it is over: Solve is possible again
+        return;
+    }
     if (how == Job::State::Failed || !r) {
         reason_ = how == Job::State::Failed ? error : tr("the run ended without a result");
         setState(State::Failed);

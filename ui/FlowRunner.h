@@ -105,6 +105,7 @@ class FlowRunner : public QObject {
     bool outdated_ = false;
     bool continued_ = false;
     quint64 generation_ = 0;  // increases when the document is replaced
+    quint64 runGeneration_ = 0;  // the generation the running job belongs to
 };
 
 }  // namespace aero::ui

@@ -149,9 +149,6 @@ void FlowWorkspace::onStateChanged() {
 
 void FlowWorkspace::onResultChanged() {
     const auto r = runner_->result();
-    if (r && r->flow) {
-        panel_->setSliceBounds(scene_->gridBounds());
-    }
     showResult();
     if (r && r->flow && sections_->stations().empty()) fillStations();
     else cutSections();

@@ -205,6 +205,7 @@ class FlowSolveTest : public QObject {
     void stopEndsTheRunQuicklyAndContinueResumesIt();
     void aRunThatDoesNotConvergeSaysWhy();
     void caseOptionsAreUndoableEdits();
+    void anotherDocumentDropsTheRun();
     void quittingMidRunAsksThenKeepsTheState();
 
   private:
@@ -569,6 +570,9 @@ void FlowSolveTest::stopEndsTheRunQuicklyAndContinueResumesIt() {
     QCOMPARE(r->flow->previousIterations, before);
     const auto& line = window_->flow().residualPlot()->allSeries()[1].points;
     QCOMPARE(static_cast<int>(line.front().x()), before + 1);
+    // Converged: no stale state is left to continue.
+    QVERIFY(!QFileInfo::exists(restart));
+    QVERIFY(!window_->actions().flowContinue->isEnabled());
 }
 
 void FlowSolveTest::aRunThatDoesNotConvergeSaysWhy() {
@@ -613,6 +617,20 @@ void FlowSolveTest::caseOptionsAreUndoableEdits() {
     QCOMPARE(doc.caseFile().mesh.extrusion.refine, 1.0);
     stack->undo();
     QCOMPARE(doc.caseFile().mesh.extrusion.refine, 0.3);
+}
+
+void FlowSolveTest::anotherDocumentDropsTheRun() {
+    window_->actions().flowSolve->trigger();
+    QVERIFY(QTest::qWaitFor([this] { return runner().acceptedIterations() >= 1; }, kSolveTimeoutMs));
+    QString error;
+    QVERIFY2(window_->loadFile(project_, &error), qPrintable(error));  // the project again: a new document
+    QCOMPARE(runner().state(), State::None);
+    QVERIFY(QTest::qWaitFor([this] { return !window_->jobs().busy(); }, kSolveTimeoutMs));
+    QCOMPARE(runner().state(), State::None);  // the old run's end is not this document's result
+    QVERIFY(runner().result() == nullptr);
+    QVERIFY(scene().empty());
+    QVERIFY(window_->actions().flowSolve->isEnabled());
+    QVERIFY(!window_->actions().exportFlow->isEnabled());
 }
 
 void FlowSolveTest::quittingMidRunAsksThenKeepsTheState() {
