@@ -486,9 +486,17 @@ void FlowSolveTest::plotsExportPngSvgAndCsv() {
     QVERIFY2(plot.hoverText().contains(QStringLiteral("Relative residual")), qPrintable(plot.hoverText()));
     QVERIFY(QTest::qWaitForWindowExposed(&plot) || true);
     QVERIFY(plot.toImage(1.0).save(kScreenshotDir + QStringLiteral("/flow_residuals.png")));
+    QVERIFY(plot.exportSvg(kScreenshotDir + QStringLiteral("/flow_residuals.svg")));
     plot.hoverAt({-1, -1});
-    // The section plots export too.
-    QVERIFY(window_->flow().sections()->cpPlot()->toImage(1.0).save(kScreenshotDir + QStringLiteral("/flow_sections_cp.png")));
+    // The section plots export too (shown first: a hidden dock's plot has no size yet).
+    auto* sectionsDock = window_->findChild<QDockWidget*>(QStringLiteral("sectionsDock"));
+    sectionsDock->show();
+    sectionsDock->raise();
+    QTRY_VERIFY(window_->flow().sections()->cpPlot()->width() > 200);
+    const QImage cpPlot = window_->flow().sections()->cpPlot()->toImage(1.0);
+    QVERIFY(distinctColours(cpPlot) > 20);
+    QVERIFY(cpPlot.save(kScreenshotDir + QStringLiteral("/flow_sections_cp.png")));
+    window_->findChild<QDockWidget*>(QStringLiteral("residualsDock"))->raise();
 }
 
 void FlowSolveTest::screenshotsOfTheSolution() {
