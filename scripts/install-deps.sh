@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev libsuitesparse-dev
   libopenblas0-openmp  # CHOLMOD (mesh movement fallback) is 4x slower on the reference BLAS
   xvfb xauth libgl1-mesa-dri
+  libqt6svg6  # the desktop application's SVG icons (Qt's SVG icon engine, at run time only)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -19,6 +19,7 @@
 #include "io/CaseWriter.h"
 #include "io/GeometryVtk.h"
 #include "io/PatchSetJson.h"
+#include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
 
 namespace aero::ui {
@@ -85,6 +86,14 @@ std::string meshKey(const io::CaseFile& c) {
     return io::formatCase(k);
 }
 
+// Canonical text of the case's flow options.
+std::string flowKey(const io::CaseFile& c) {
+    io::CaseFile k;
+    k.flow = c.flow;
+    k.flow.present = true;
+    return io::formatCase(k);
+}
+
 std::array<int, 3> unflatten(const ffd::Lattice& L, int a) {
     return {a % L.count[0], (a / L.count[0]) % L.count[1], a / (L.count[0] * L.count[1])};
 }
@@ -93,28 +102,45 @@ QString formatPoint(const std::array<double, 3>& x) {
     return QStringLiteral("(%1, %2, %3)").arg(x[0], 0, 'g', 4).arg(x[1], 0, 'g', 4).arg(x[2], 0, 'g', 4);
 }
 
+// The document's evaluator: the case's, in the editor's mode: control points outside every
+// lattice are reported as a problem (problems()) rather than refused.
+std::unique_ptr<study::CaseEvaluator> makeEvaluator(const io::CaseFile& c, const geometry::PatchSet& baseline) {
+    io::CaseFile display = c;
+    display.allowOutside = true;
+    return std::make_unique<study::CaseEvaluator>(std::move(display), baseline);
+}
+
+// The shape stage for design values v and lattice point displacements d, keeping the shape of
+// a non-injective lattice (the user sees the fold and the problem).
+study::Evaluation shapeStage(study::CaseEvaluator& ev, const std::vector<double>& v,
+                             const std::vector<io::DisplacementCase>& d) {
+    study::EvaluationRequest r;
+    r.mesh = false;
+    r.flow = false;
+    r.keepInvalidShape = true;
+    r.displacements = d;
+    return ev.evaluate(v, r);
+}
+
 // The state a case builds to. Computed completely before anything is committed.
 struct Built {
-    std::unique_ptr<ffd::FfdModel> model;  // null: reuse the current model (or none)
-    bool hasModel = false;
+    std::unique_ptr<study::CaseEvaluator> evaluator;  // null: reuse the current one
     std::string key;
     std::vector<double> values;
-    std::vector<ffd::Lattice> moved;
+    study::Evaluation shape;
 };
 
-Built build(const io::CaseFile& c, const geometry::PatchSet& baseline, const ffd::FfdModel* current,
+Built build(const io::CaseFile& c, const geometry::PatchSet& baseline, study::CaseEvaluator* current,
             const std::string& currentKey) {
     Built b;
-    if (c.lattices.empty()) return b;
-    b.hasModel = true;
     b.key = modelKey(c);
-    const ffd::FfdModel* m = current;
+    study::CaseEvaluator* ev = current;
     if (!current || b.key != currentKey) {
-        b.model = std::make_unique<ffd::FfdModel>(io::buildModel(c, baseline));
-        m = b.model.get();
+        b.evaluator = makeEvaluator(c, baseline);
+        ev = b.evaluator.get();
     }
-    b.values = io::designValues(c, *m);
-    b.moved = io::movedLattices(c, *m, b.values);
+    if (ev->model()) b.values = io::designValues(c, *ev->model());
+    b.shape = shapeStage(*ev, b.values, c.displacements);
     return b;
 }
 
@@ -192,6 +218,10 @@ Document::Document(QObject* parent) : QObject(parent), undo_(new QUndoStack(this
 
 Document::~Document() = default;
 
+const ffd::FfdModel* Document::model() const {
+    return evaluator_ ? evaluator_->model() : nullptr;
+}
+
 bool Document::hasGeometry() const {
     return baseline_ != nullptr;
 }
@@ -236,9 +266,9 @@ QStringList Document::problems() const {
                   "over itself (highlighted in red). Move the points back or undo.")
                    .arg(QString::fromStdString(case_.lattices[l].name), formatPoint(r.minPoint));
     }
-    if (model_) {
+    if (const ffd::FfdModel* m = model()) {
         int outside = 0, notConverged = 0;
-        for (const auto& f : model_->summary().failures) (f.outside ? outside : notConverged) += 1;
+        for (const auto& f : m->summary().failures) (f.outside ? outside : notConverged) += 1;
         if (outside > 0)
             out << tr("%1 lie outside every lattice and do not follow the deformation (highlighted in "
                       "magenta). Enlarge the lattice padding.")
@@ -252,27 +282,27 @@ QStringList Document::problems() const {
 
 std::vector<double> Document::failedPoints() const {
     std::vector<double> out;
-    if (!model_) return out;
-    for (const auto& f : model_->summary().failures)
-        for (int k = 0; k < 3; ++k) out.push_back(model_->index().points[3 * static_cast<std::size_t>(f.point) + k]);
+    const ffd::FfdModel* m = model();
+    if (!m) return out;
+    for (const auto& f : m->summary().failures)
+        for (int k = 0; k < 3; ++k) out.push_back(m->index().points[3 * static_cast<std::size_t>(f.point) + k]);
     return out;
 }
 
 geometry::PatchSet Document::shapeDerivative(int var) const {
-    if (!model_ || !baseline_ || var < 0 || var >= model_->design().size()) return {};
-    if (!dAdv_) dAdv_ = std::make_unique<Eigen::SparseMatrix<double>>(model_->dUniqueDv());
-    std::vector<double> column(3 * static_cast<std::size_t>(model_->index().uniqueCount()), 0.0);
+    const ffd::FfdModel* m = model();
+    if (!m || !baseline_ || var < 0 || var >= m->design().size()) return {};
+    if (!dAdv_) dAdv_ = std::make_unique<Eigen::SparseMatrix<double>>(m->dUniqueDv());
+    std::vector<double> column(3 * static_cast<std::size_t>(m->index().uniqueCount()), 0.0);
     for (Eigen::SparseMatrix<double>::InnerIterator it(*dAdv_, var); it; ++it)
         column[static_cast<std::size_t>(it.row())] = it.value();
     geometry::PatchSet d = *baseline_;
-    ffd::scatter(model_->index(), column, d);
+    ffd::scatter(m->index(), column, d);
     return d;
 }
 
 std::vector<double> Document::uniquePoints() const {
-    if (!baseline_) return {};
-    if (model_) return model_->uniqueWith(moved_);
-    return geometry::buildControlPointIndex(*baseline_, 1e-10).points;
+    return baseline_ ? unique_ : std::vector<double>{};
 }
 
 std::array<double, 3> Document::displacement(int l, int point) const {
@@ -291,11 +321,11 @@ void Document::adopt(Loaded&& in) {
     undo_->clear();
     case_ = std::move(in.c);
     baseline_ = std::move(in.baseline);
-    model_ = std::move(b.model);
-    modelKey_ = b.hasModel ? b.key : std::string();
+    evaluator_ = std::move(b.evaluator);
+    modelKey_ = b.key;
     dAdv_.reset();
     values_ = std::move(b.values);
-    committed_ = b.moved;
+    committed_ = b.shape.lattices;
     moved_.clear();
     shape_.reset();
     reports_.clear();
@@ -311,7 +341,7 @@ void Document::adopt(Loaded&& in) {
     loadMessage_ = in.message;
     ++revision_;
     title_ = in.title;
-    showLattices(std::move(b.moved));
+    show(std::move(b.shape));
     emit reset();
     emit titleChanged();
     setForceModified(false);
@@ -399,7 +429,7 @@ void Document::exportGeometry(const QString& qpath) const {
     if (!baseline_) throw InputError("nothing to export: no geometry is loaded");
     const std::string path = toStd(qpath);
     const std::string ext = lowerExtension(path);
-    const geometry::PatchSet deformed = model_ ? model_->deformWith(committed_) : *baseline_;
+    const geometry::PatchSet deformed = model() ? model()->deformWith(committed_) : *baseline_;
     if (ext == "igs" || ext == "iges")
         cad::writeIges(deformed, path);
     else if (ext == "json")
@@ -410,10 +440,10 @@ void Document::exportGeometry(const QString& qpath) const {
 
 void Document::exportVtk(const QString& qpath) const {
     if (!baseline_) throw InputError("nothing to export: no geometry is loaded");
-    const geometry::PatchSet deformed = model_ ? model_->deformWith(committed_) : *baseline_;
+    const geometry::PatchSet deformed = model() ? model()->deformWith(committed_) : *baseline_;
     std::vector<ffd::Lattice> base;
-    if (model_)
-        for (const auto& spec : model_->lattices()) base.push_back(spec.lattice);
+    if (model())
+        for (const auto& spec : model()->lattices()) base.push_back(spec.lattice);
     io::writeVtm(toStd(qpath), io::geometryBlocks(deformed, baseline_.get(), committed_, &base));
 }
 
@@ -424,36 +454,34 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     io::CaseFile next = nextIn;
     next.path = case_.path;  // the project's location and geometry are not part of edits
     next.geometry = case_.geometry;
-    Built b = build(next, *baseline_, model_.get(), modelKey_);
-    const bool structure = b.model != nullptr || (!b.hasModel && model_ != nullptr);
+    Built b = build(next, *baseline_, evaluator_.get(), modelKey_);
+    const bool structure = b.evaluator != nullptr;  // lattices or variables were re-specified
     const bool valuesDiffer = b.values != values_;
     const bool meshDiffers = meshKey(next) != meshKey(case_);
+    const bool flowDiffers = flowKey(next) != flowKey(case_);
     case_ = std::move(next);
-    if (b.model) {
-        model_ = std::move(b.model);
+    if (b.evaluator) {
+        evaluator_ = std::move(b.evaluator);
         modelKey_ = b.key;
-        dAdv_.reset();
-    } else if (!b.hasModel) {
-        model_.reset();
-        modelKey_.clear();
         dAdv_.reset();
     }
     values_ = std::move(b.values);
-    committed_ = b.moved;
+    committed_ = b.shape.lattices;
     previewing_ = false;
     ++revision_;
     if (structure) emit structureChanged();
     if (valuesDiffer || structure) emit valuesChanged();
     if (meshDiffers) emit meshOptionsChanged();
-    showLattices(std::move(b.moved));
+    if (flowDiffers) emit flowOptionsChanged();
+    show(std::move(b.shape));
 }
 
-void Document::showLattices(std::vector<ffd::Lattice> moved) {
-    auto next = std::make_unique<geometry::PatchSet>(model_ ? model_->deformWith(moved) : *baseline_);
-    std::vector<ffd::InjectivityReport> reports;
-    reports.reserve(moved.size());
-    for (const auto& L : moved) reports.push_back(ffd::checkInjectivity(L));
+study::Evaluation Document::evaluateShape(const std::vector<io::DisplacementCase>& displacements) const {
+    return shapeStage(*evaluator_, values_, displacements);
+}
 
+void Document::show(study::Evaluation&& e) {
+    auto next = std::make_unique<geometry::PatchSet>(std::move(e.shape));
     QVector<int> changed;
     const bool sameLayout = shape_ && shape_->size() == next->size();
     for (int p = 0; p < next->size(); ++p) {
@@ -461,8 +489,9 @@ void Document::showLattices(std::vector<ffd::Lattice> moved) {
         if (!sameLayout || shape_->patches[static_cast<std::size_t>(p)].points != np.points) changed.push_back(p);
     }
     shape_ = std::move(next);
-    moved_ = std::move(moved);
-    reports_ = std::move(reports);
+    moved_ = std::move(e.lattices);
+    reports_ = std::move(e.injectivity);
+    unique_ = std::move(e.uniqueSurface);
     emit latticesMoved();
     if (!changed.isEmpty()) emit shapeChanged(changed);
     emit diagnosticsChanged();
@@ -610,8 +639,9 @@ void Document::resetLatticePoints(int l, const std::vector<int>& points) {
 }
 
 void Document::setDesignValue(int var, double value, int gesture) {
-    if (!model_ || var < 0 || var >= model_->design().size()) return;
-    const ffd::DesignVariable& d = model_->design().variables()[static_cast<std::size_t>(var)];
+    const ffd::FfdModel* m = model();
+    if (!m || var < 0 || var >= m->design().size()) return;
+    const ffd::DesignVariable& d = m->design().variables()[static_cast<std::size_t>(var)];
     value = std::clamp(value, d.lower, d.upper);
     if (value == values_[static_cast<std::size_t>(var)]) return;
     io::CaseFile next = case_;
@@ -646,24 +676,52 @@ void Document::setMeshOptions(const std::string& level, int increments) {
     edit(tr("Set mesh level %1, %2").arg(QString::fromStdString(level), counted(increments, tr("increment"), tr("increments"))), next);
 }
 
+void Document::setOption(Section section, const std::string& key, const io::OptionValue& value) {
+    io::CaseFile next = case_;
+    auto apply = [&](const auto& table, auto& target, const char* name) {
+        const auto& option = io::findOption(table, key);  // a programming error for an unknown key
+        if (const std::string why = option.spec.check(value); !why.empty())
+            throw CaseError(std::string(name) + "." + key + ": " + why);
+        option.set(target, value);
+        target.present = true;
+    };
+    if (section == Section::Flow)
+        apply(io::flowOptions(), next.flow, "flow");
+    else
+        apply(io::meshOptions(), next.mesh, "mesh");
+    if (section == Section::Flow ? flowKey(next) == flowKey(case_) : meshKey(next) == meshKey(case_)) return;
+    edit(tr("Set %1.%2 = %3")
+             .arg(section == Section::Flow ? QStringLiteral("flow") : QStringLiteral("mesh"), QString::fromStdString(key),
+                  QString::fromStdString(io::formatOptionValue(value))),
+         next);
+}
+
 // ---- Preview ----------------------------------------------------------------------------------
 
 void Document::previewLatticeMove(int l, const std::vector<int>& points, const std::array<double, 3>& delta) {
-    if (!model_ || l < 0 || l >= static_cast<int>(committed_.size())) return;
-    std::vector<ffd::Lattice> moved = committed_;
-    ffd::Lattice& L = moved[static_cast<std::size_t>(l)];
+    if (!model() || l < 0 || l >= static_cast<int>(committed_.size())) return;
+    // The case's displacements with the drag's added: the shape stage computes the rest.
+    std::vector<io::DisplacementCase> displacements = case_.displacements;
+    const ffd::Lattice& L = committed_[static_cast<std::size_t>(l)];
     for (int a : points) {
         if (a < 0 || a >= L.controlCount()) continue;
-        for (int k = 0; k < 3; ++k) L.points[3 * static_cast<std::size_t>(a) + k] += delta[static_cast<std::size_t>(k)];
+        const auto idx = unflatten(L, a);
+        auto it = std::find_if(displacements.begin(), displacements.end(),
+                               [&](const io::DisplacementCase& d) { return d.lattice == l && d.index == idx; });
+        if (it == displacements.end()) {
+            displacements.push_back({l, idx, delta});
+        } else {
+            for (int k = 0; k < 3; ++k) it->delta[static_cast<std::size_t>(k)] += delta[static_cast<std::size_t>(k)];
+        }
     }
     previewing_ = true;
-    showLattices(std::move(moved));
+    show(evaluateShape(displacements));
 }
 
 void Document::endPreview() {
     if (!previewing_) return;
     previewing_ = false;
-    showLattices(committed_);
+    show(evaluateShape(case_.displacements));
 }
 
 }  // namespace aero::ui

@@ -4,14 +4,19 @@
 // GUI shows. The document holds
 //   the case                  lattices, design variables, values, lattice displacements;
 //   the baseline geometry     loaded once per project (file-backed, or the generated sample);
-//   the FFD model             libcore's FfdModel, rebuilt only when lattices or variables change;
+//   the evaluator             the one pipeline, study::CaseEvaluator (its FFD model embedded
+//                             once), rebuilt only when lattices or variables change; the
+//                             document asks it for the shape stage only, with its own values and
+//                             displacements, in its editor mode (a non-injective lattice's shape
+//                             is kept for display, points outside every lattice are reported);
 //   the current state         design values, moved lattices B, deformed patches A, injectivity.
 // Every edit is an undoable command on undoStack() that swaps the whole case (before/after), so
 // undo restores the state exactly (the deformation is recomputed from the case with the same
 // arithmetic). Drags are previews on top of the committed state until they are committed.
 //
-// No numerics here: everything is computed by libcore (buildModel, designValues,
-// movedLattices, deformWith, checkInjectivity, dUniqueDv). GUI thread only.
+// No numerics here: everything is computed by libcore (CaseEvaluator's shape stage: the moved
+// lattices, injectivity, deformed patches and unique points; designValues, dUniqueDv). GUI thread
+// only.
 // Loading, saving and edits throw aero::Error (with a message for the user) and then leave the
 // document unchanged.
 #include <QObject>
@@ -25,8 +30,14 @@
 
 #include "ffd/Injectivity.h"
 #include "io/CaseFile.h"
+#include "io/Options.h"
 
 class QUndoStack;
+
+namespace aero::study {
+class CaseEvaluator;
+struct Evaluation;
+}  // namespace aero::study
 
 namespace aero::ui {
 
@@ -47,7 +58,7 @@ class Document : public QObject {
     /// baseline when there is no lattice.
     const geometry::PatchSet& shape() const;
     /// Null without lattices.
-    const ffd::FfdModel* model() const { return model_.get(); }
+    const ffd::FfdModel* model() const;
     /// Design values in model order (empty without a model).
     const std::vector<double>& values() const { return values_; }
     /// Moved lattices B (one per case lattice), the preview included.
@@ -133,6 +144,14 @@ class Document : public QObject {
     /// unknown level. No-op when nothing changes.
     void setMeshOptions(const std::string& level, int increments);
 
+    /// The case sections whose options are self-describing (io/Options.h).
+    enum class Section { Flow, Mesh };
+    /// Sets option `key` of the case's flow or mesh section to `value`, checked as the case parser
+    /// checks it (CaseError naming the key and its range). The section becomes present (it is
+    /// written to the project). Mesh "level" resets the grid options to the level's, as in a case
+    /// file. One undoable step; no-op when nothing changes.
+    void setOption(Section section, const std::string& key, const io::OptionValue& value);
+
     /// Displacement of a lattice point in the case (zero if none).
     std::array<double, 3> displacement(int l, int point) const;
 
@@ -160,6 +179,8 @@ class Document : public QObject {
     void valuesChanged();
     /// The case's mesh options (caseFile().mesh) changed.
     void meshOptionsChanged();
+    /// The case's flow options (caseFile().flow) changed.
+    void flowOptionsChanged();
     /// injectivity() or failed points changed; problems() says what is wrong.
     void diagnosticsChanged();
     void modifiedChanged(bool modified);
@@ -173,18 +194,21 @@ class Document : public QObject {
     void adopt(Loaded&& loaded);
     /// Validates `next` by applying it, then pushes a command that swaps before/after.
     void edit(const QString& text, const io::CaseFile& next);
-    /// Computes shape and diagnostics for lattices `moved` and publishes them.
-    void showLattices(std::vector<ffd::Lattice> moved);
+    /// Publishes the shape stage's result (shape, lattices, injectivity, unique points).
+    void show(study::Evaluation&& shape);
+    /// The shape stage for the document's values and these displacements.
+    study::Evaluation evaluateShape(const std::vector<io::DisplacementCase>& displacements) const;
     void setTitle(const QString& title);
     void setForceModified(bool on);
 
     io::CaseFile case_;
     std::unique_ptr<geometry::PatchSet> baseline_;
-    std::unique_ptr<ffd::FfdModel> model_;
-    std::string modelKey_;  // canonical text of what the model was built from
+    std::unique_ptr<study::CaseEvaluator> evaluator_;  // null without geometry
+    std::string modelKey_;  // canonical text of what the evaluator's model was built from
     std::vector<double> values_;
     std::vector<ffd::Lattice> committed_;  // moved lattices of the case
     std::vector<ffd::Lattice> moved_;      // as shown (committed_ or a preview)
+    std::vector<double> unique_;           // the unique control points as shown
     std::unique_ptr<geometry::PatchSet> shape_;
     std::vector<ffd::InjectivityReport> reports_;
     bool previewing_ = false;
@@ -196,7 +220,7 @@ class Document : public QObject {
     QString title_;
     QString loadMessage_;
     QUndoStack* undo_ = nullptr;
-    mutable std::unique_ptr<Eigen::SparseMatrix<double>> dAdv_;  // dUniqueDv() of model_, lazily
+    mutable std::unique_ptr<Eigen::SparseMatrix<double>> dAdv_;  // dUniqueDv() of model(), lazily
 };
 
 }  // namespace aero::ui

@@ -6,49 +6,51 @@
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
-#include <QDir>
 #include <QDockWidget>
 #include <QDragEnterEvent>
 #include <QDropEvent>
-#include <QFile>
-#include <QFileDialog>
 #include <QFileInfo>
-#include <QImage>
-#include <QKeySequence>
 #include <QFontMetrics>
+#include <QImage>
 #include <QLabel>
-#include <QLocale>
-#include <QMenuBar>
+#include <QMenu>
 #include <QMessageBox>
 #include <QMimeData>
-#include <QProgressBar>
 #include <QPushButton>
 #include <QScrollArea>
-#include <QSettings>
 #include <QStatusBar>
-#include <QStyle>
-#include <QToolBar>
-#include <QToolButton>
+#include <QTreeWidgetItem>
 #include <QUndoStack>
 #include <QUrl>
-#include <array>
 #include <cmath>
-#include <exception>
 
+#include "ActionSet.h"
 #include "Autosave.h"
-#include "BackgroundJob.h"
 #include "DesignVariablePanel.h"
 #include "Document.h"
+#include "Exports.h"
+#include "FlowPanel.h"
+#include "FlowRunner.h"
+#include "FlowScene.h"
+#include "FlowWorkspace.h"
+#include "Help.h"
+#include "JobRunner.h"
+#include "JobStatusBar.h"
 #include "LatticeDialog.h"
 #include "LatticeEditor.h"
 #include "LatticeScene.h"
+#include "Menus.h"
 #include "MeshPanel.h"
 #include "MeshPreviewer.h"
 #include "MeshScene.h"
 #include "ModelTree.h"
 #include "OverlayScene.h"
 #include "PatchScene.h"
+#include "ProjectFiles.h"
 #include "PropertyPanel.h"
+#include "ResidualPlot.h"
+#include "Resources.h"
+#include "SectionView.h"
 #include "Selection.h"
 #include "Text.h"
 #include "VtkViewport.h"
@@ -60,23 +62,44 @@ namespace aero::ui {
 namespace {
 
 const char* const kAppName = "Aeroform";
-const char* const kRecentKey = "recentFiles";
-constexpr int kMaxRecent = 8;
-constexpr int kArrowSamples = 7;  // sensitivity arrows per patch and direction
+constexpr int kArrowSamples = 7;        // sensitivity arrows per patch and direction
+constexpr int kQuitWaitMs = 120000;     // how long quitting waits for stopped jobs
 
-bool supportedSuffix(const QString& path) {
-    const QString s = QFileInfo(path).suffix().toLower();
-    return s == QLatin1String("json") || s == QLatin1String("igs") || s == QLatin1String("iges");
+QDockWidget* dock(QMainWindow* window, const QString& title, const char* name, QWidget* content, bool scroll) {
+    auto* d = new QDockWidget(title, window);
+    d->setObjectName(QString::fromLatin1(name));
+    if (scroll) {
+        auto* area = new QScrollArea(window);
+        area->setWidget(content);
+        area->setWidgetResizable(true);
+        area->setFrameShape(QFrame::NoFrame);
+        area->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);  // the panel wraps to the dock's width
+        d->setWidget(area);
+    } else {
+        d->setWidget(content);
+    }
+    return d;
 }
 
 }  // namespace
 
-MainWindow::MainWindow(QWidget* parent) : MainWindow(Options{}, parent) {}
+MainWindow::Options MainWindow::defaultOptions() {
+    Options o;
+    const int seconds = setting(QStringLiteral("autosave/intervalSeconds")).toInt();
+    if (seconds > 0) o.autosaveIntervalMs = 1000 * seconds;
+    return o;
+}
+
+MainWindow::MainWindow(QWidget* parent) : MainWindow(defaultOptions(), parent) {}
 
 MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(parent), options_(options) {
+    initResources();
+    setWindowIcon(appIcon(QStringLiteral("aeroform")));
     document_ = new Document(this);
     selection_ = new Selection(this);
-    jobs_ = new BackgroundJob(this);
+    jobs_ = new JobRunner(this);
+    actions_ = std::make_unique<ActionSet>(this, document_->undoStack());
+    files_ = new ProjectFiles(document_, this, options_.recentFiles, this);
 
     viewport_ = new VtkViewport(this);
     viewport_->setObjectName(QStringLiteral("viewport"));
@@ -85,14 +108,27 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     lattices_ = std::make_unique<LatticeScene>(viewport_->renderer());
     overlay_ = std::make_unique<OverlayScene>(viewport_->renderer());
     meshScene_ = std::make_unique<MeshScene>(viewport_->renderer());
+    flowScene_ = std::make_unique<FlowScene>(viewport_->renderer());
     editor_ = new LatticeEditor(viewport_, document_, selection_, lattices_.get(), this);
+
+    meshPanel_ = new MeshPanel(this);
+    previewer_ = new MeshPreviewer(document_, jobs_, viewport_, meshScene_.get(), meshPanel_, this);
+    flow_ = new FlowWorkspace(document_, jobs_, viewport_, flowScene_.get(), this, this);
+    exports_ = new Exports(
+        document_, files_, previewer_, &flow_->runner(), this,
+        [this](const QString& path, QString* error) { return saveScreenshot(path, error); },
+        [this] { return problemText(); }, this);
 
     createDocks();
     createStatusBar();
-    // After the status bar: the previewer's messages about a finished job come after the
-    // generic "done" of the job (same signal, later connection).
-    previewer_ = new MeshPreviewer(document_, jobs_, viewport_, meshScene_.get(), meshPanel_, this);
-    createMenus();
+    menus_ = std::make_unique<MenuRefs>(buildMenus(this, *actions_));
+    buildToolBar(this, *actions_);
+    for (QDockWidget* d : findChildren<QDockWidget*>()) menus_->panels->addAction(d->toggleViewAction());
+    QAction* qualityPanel = findChild<QDockWidget*>(QStringLiteral("meshQualityDock"))->toggleViewAction();
+    menus_->mesh->addAction(qualityPanel);
+    for (const char* name : {"flowDock", "residualsDock", "sectionsDock"})
+        menus_->flow->addAction(findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
+    connectActions();
     connectDocument();
     if (options_.autosave) {
         autosaver_ = new Autosaver(document_,
@@ -109,9 +145,13 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
 }
 
 MainWindow::~MainWindow() {
+    // Jobs first: their results must not arrive in half-destroyed panels.
+    jobs_->cancelAll();
+    jobs_->waitAll(kQuitWaitMs);
     // Removing the scenes' actors releases their GL objects: do it in the viewport's context
     // (which is still alive; the viewport, a child widget, is destroyed after this body).
     viewport_->makeCurrent();
+    flowScene_.reset();
     meshScene_.reset();
     overlay_.reset();
     lattices_.reset();
@@ -123,51 +163,45 @@ MainWindow::~MainWindow() {
 
 void MainWindow::createDocks() {
     setDockOptions(QMainWindow::AnimatedDocks | QMainWindow::AllowTabbedDocks);
+    setCorner(Qt::BottomLeftCorner, Qt::LeftDockWidgetArea);
+    setCorner(Qt::BottomRightCorner, Qt::RightDockWidgetArea);
     tree_ = new ModelTree(document_, selection_, this);
-    auto* treeDock = new QDockWidget(tr("Model"), this);
-    treeDock->setObjectName(QStringLiteral("modelDock"));
-    treeDock->setWidget(tree_);
+    QDockWidget* treeDock = dock(this, tr("Model"), "modelDock", tree_, false);
     addDockWidget(Qt::LeftDockWidgetArea, treeDock);
-
     properties_ = new PropertyPanel(document_, selection_, this);
-    auto* scroll = new QScrollArea(this);
-    scroll->setWidget(properties_);
-    scroll->setWidgetResizable(true);
-    scroll->setFrameShape(QFrame::NoFrame);
-    scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);  // the panel wraps to the dock's width
-    auto* propDock = new QDockWidget(tr("Properties"), this);
-    propDock->setObjectName(QStringLiteral("propertiesDock"));
-    propDock->setWidget(scroll);
+    QDockWidget* propDock = dock(this, tr("Properties"), "propertiesDock", properties_, true);
     addDockWidget(Qt::LeftDockWidgetArea, propDock);
     splitDockWidget(treeDock, propDock, Qt::Vertical);
 
     variables_ = new DesignVariablePanel(document_, this);
-    auto* varDock = new QDockWidget(tr("Design Variables"), this);
-    varDock->setObjectName(QStringLiteral("designVariablesDock"));
-    varDock->setWidget(variables_);
+    QDockWidget* varDock = dock(this, tr("Design Variables"), "designVariablesDock", variables_, false);
     addDockWidget(Qt::RightDockWidgetArea, varDock);
-
-    meshPanel_ = new MeshPanel(this);
-    auto* meshScroll = new QScrollArea(this);
-    meshScroll->setWidget(meshPanel_);
-    meshScroll->setWidgetResizable(true);
-    meshScroll->setFrameShape(QFrame::NoFrame);
-    meshScroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
-    auto* meshDock = new QDockWidget(tr("Mesh Quality"), this);
-    meshDock->setObjectName(QStringLiteral("meshQualityDock"));
-    meshDock->setWidget(meshScroll);
+    QDockWidget* meshDock = dock(this, tr("Mesh Quality"), "meshQualityDock", meshPanel_, true);
     addDockWidget(Qt::RightDockWidgetArea, meshDock);
     tabifyDockWidget(varDock, meshDock);
+    QDockWidget* flowDock = dock(this, tr("Flow"), "flowDock", flow_->panel(), true);
+    addDockWidget(Qt::RightDockWidgetArea, flowDock);
+    tabifyDockWidget(meshDock, flowDock);
     varDock->raise();
 
-    resizeDocks({treeDock, varDock}, {260, 300}, Qt::Horizontal);
+    // The plots below the view, shown when a solve starts.
+    QDockWidget* residualDock = dock(this, tr("Residuals"), "residualsDock", flow_->residualPlot(), false);
+    addDockWidget(Qt::BottomDockWidgetArea, residualDock);
+    QDockWidget* sectionDock = dock(this, tr("Sections"), "sectionsDock", flow_->sections(), false);
+    addDockWidget(Qt::BottomDockWidgetArea, sectionDock);
+    tabifyDockWidget(residualDock, sectionDock);
+    residualDock->raise();
+    residualDock->hide();
+    sectionDock->hide();
+
+    resizeDocks({treeDock, varDock}, {250, 340}, Qt::Horizontal);
     resizeDocks({treeDock, propDock}, {200, 420}, Qt::Vertical);
 
     connect(tree_, &ModelTree::geometryVisibilityChanged, this, [this](bool on) {
-        if (!settingGeometry_) geometryHiddenForGrid_ = false;  // the user's choice from now on
+        if (!settingGeometry_) geometryHiddenForResults_ = false;  // the user's choice from now on
         scene_->setSurfacesVisible(on);
-        scene_->setEdgesVisible(on && findChild<QAction*>(QStringLiteral("actionPatchEdges"))->isChecked());
-        findChild<QAction*>(QStringLiteral("actionSurfaces"))->setChecked(on);
+        scene_->setEdgesVisible(on && actions_->patchEdges->isChecked());
+        actions_->surfaces->setChecked(on);
         viewport_->requestRender();
     });
     connect(tree_, &ModelTree::patchVisibilityChanged, this, [this](int p, bool on) {
@@ -175,12 +209,12 @@ void MainWindow::createDocks() {
         updateSensitivity();
         viewport_->requestRender();
     });
-    connect(tree_, &ModelTree::latticesVisibilityChanged, this, [this](bool on) { latticesAction_->setChecked(on); });
+    connect(tree_, &ModelTree::latticesVisibilityChanged, this, [this](bool on) { actions_->lattices->setChecked(on); });
     connect(tree_, &ModelTree::latticeVisibilityChanged, this, [this](int l, bool on) {
         lattices_->setLatticeVisible(l, on);
         viewport_->requestRender();
     });
-    connect(tree_, &ModelTree::gridVisibilityChanged, this, &MainWindow::applyGridVisibility);
+    connect(tree_, &ModelTree::gridVisibilityChanged, this, &MainWindow::applyResultVisibility);
 }
 
 void MainWindow::createStatusBar() {
@@ -190,188 +224,98 @@ void MainWindow::createStatusBar() {
     problemLabel_->setTextFormat(Qt::PlainText);
     problemLabel_->hide();
     statusBar()->addPermanentWidget(problemLabel_, 1);
-
-    jobProgress_ = new QProgressBar(this);
-    jobProgress_->setMaximumWidth(160);
-    jobProgress_->setRange(0, 100);
-    jobProgress_->hide();
-    jobCancel_ = new QToolButton(this);
-    jobCancel_->setText(tr("Cancel"));
-    jobCancel_->hide();
-    statusBar()->addPermanentWidget(jobProgress_);
-    statusBar()->addPermanentWidget(jobCancel_);
-    connect(jobCancel_, &QToolButton::clicked, jobs_, &BackgroundJob::cancel);
-    connect(jobs_, &BackgroundJob::started, this, [this](const QString& title) {
-        jobProgress_->setRange(0, 0);
-        jobProgress_->setFormat(title);
-        jobProgress_->show();
-        jobCancel_->show();
-        statusBar()->showMessage(title);
-    });
-    connect(jobs_, &BackgroundJob::progress, this, [this](double fraction, const QString& text) {
-        if (fraction >= 0) {
-            jobProgress_->setRange(0, 100);
-            jobProgress_->setValue(static_cast<int>(std::lround(100 * std::min(1.0, fraction))));
-        }
-        if (!text.isEmpty()) statusBar()->showMessage(text);
-    });
-    connect(jobs_, &BackgroundJob::finished, this, [this](bool ok, bool cancelled, const QString& error) {
-        jobProgress_->hide();
-        jobCancel_->hide();
-        statusBar()->showMessage(ok ? tr("%1: done").arg(jobs_->title())
-                                    : cancelled ? tr("%1: cancelled").arg(jobs_->title())
-                                                : tr("%1 failed: %2").arg(jobs_->title(), error),
-                                 8000);
-    });
-
+    jobStatus_ = new JobStatusBar(jobs_, statusBar(), this);
+    statusBar()->addPermanentWidget(jobStatus_);
     summaryLabel_ = new QLabel(this);
     summaryLabel_->setObjectName(QStringLiteral("summaryLabel"));
     statusBar()->addPermanentWidget(summaryLabel_);
+    auto show = [this](const QString& text, int timeoutMs) { statusBar()->showMessage(text, timeoutMs); };
     connect(editor_, &LatticeEditor::message, this, [this](const QString& text) {
         if (text.isEmpty())
             statusBar()->clearMessage();
         else
             statusBar()->showMessage(text, 6000);
     });
+    connect(files_, &ProjectFiles::message, this, show);
+    connect(exports_, &Exports::message, this, show);
+    connect(previewer_, &MeshPreviewer::message, this, show);
+    connect(flow_, &FlowWorkspace::message, this, show);
 }
 
-void MainWindow::createMenus() {
-    const QStyle* style = QApplication::style();
-    auto named = [](QAction* a, const char* name) {
-        a->setObjectName(QString::fromLatin1(name));
-        return a;
-    };
-
+void MainWindow::connectActions() {
+    const ActionSet& a = *actions_;
     // File.
-    QMenu* file = menuBar()->addMenu(tr("&File"));
-    file->setToolTipsVisible(true);
-    QAction* open = named(file->addAction(style->standardIcon(QStyle::SP_DialogOpenButton), tr("&Open..."), this,
-                                          &MainWindow::chooseAndOpen),
-                          "actionOpen");
-    open->setShortcut(QKeySequence::Open);
-    open->setToolTip(tr("Open a project (.json case), an IGES file or a patch set"));
-    recentMenu_ = file->addMenu(tr("Open &Recent"));
-    recentMenu_->setObjectName(QStringLiteral("menuRecent"));
-    connect(recentMenu_, &QMenu::aboutToShow, this, &MainWindow::fillRecentMenu);
-    QMenu* samples = file->addMenu(tr("Open &Sample"));
-    named(samples->addAction(tr("Half-Sphere with the Paper's &FFD Lattice"), this, [this] { openSample(true); }),
-          "actionOpenSample");
-    named(samples->addAction(tr("Half-Sphere &Geometry Only"), this, [this] { openSample(false); }),
-          "actionOpenSampleGeometry");
-    file->addSeparator();
-    saveAction_ = named(file->addAction(style->standardIcon(QStyle::SP_DialogSaveButton), tr("&Save"), this,
-                                        [this] { save(); }),
-                        "actionSave");
-    saveAction_->setShortcut(QKeySequence::Save);
-    QAction* saveAsAction = named(file->addAction(tr("Save &As..."), this, [this] { saveAs(); }), "actionSaveAs");
-    saveAsAction->setShortcut(QKeySequence::SaveAs);
-    needsGeometry_.push_back(saveAsAction);
-    QMenu* exportMenu = file->addMenu(tr("&Export"));
-    exportMenu->setToolTipsVisible(true);
-    needsGeometry_.push_back(named(exportMenu->addAction(tr("Deformed &Geometry (IGES, JSON)..."), this,
-                                                         &MainWindow::exportGeometry),
-                                   "actionExportGeometry"));
-    needsGeometry_.push_back(named(exportMenu->addAction(tr("Geometry for &ParaView (VTK)..."), this, &MainWindow::exportVtk),
-                                   "actionExportVtk"));
-    exportGridAction_ = named(exportMenu->addAction(tr("G&rid (VTK, Plot3D)..."), this, &MainWindow::exportGrid),
-                              "actionExportGrid");
-    exportGridAction_->setToolTip(tr("The previewed grid: VTK multiblock with the quality fields, or Plot3D"));
-    QAction* shot = named(exportMenu->addAction(tr("Screens&hot (PNG)..."), this, &MainWindow::chooseAndSaveScreenshot),
-                          "actionSaveScreenshot");
-    shot->setShortcut(QKeySequence(tr("Ctrl+Alt+S")));
-    file->addSeparator();
-    QAction* quit = named(file->addAction(tr("&Quit"), this, &QWidget::close), "actionQuit");
-    quit->setShortcut(QKeySequence::Quit);
-    quit->setMenuRole(QAction::QuitRole);
+    connect(a.open, &QAction::triggered, files_, &ProjectFiles::chooseAndOpen);
+    connect(menus_->recent, &QMenu::aboutToShow, this, [this] { files_->fillRecentMenu(menus_->recent); });
+    connect(a.openSample, &QAction::triggered, this, [this] { openSample(true); });
+    connect(a.openSampleGeometry, &QAction::triggered, this, [this] { openSample(false); });
+    connect(a.save, &QAction::triggered, files_, &ProjectFiles::save);
+    connect(a.saveAs, &QAction::triggered, files_, &ProjectFiles::saveAs);
+    connect(a.exportGeometry, &QAction::triggered, exports_, &Exports::exportGeometry);
+    connect(a.exportVtk, &QAction::triggered, exports_, &Exports::exportVtk);
+    connect(a.exportGrid, &QAction::triggered, exports_, &Exports::exportGrid);
+    connect(a.exportFlow, &QAction::triggered, exports_, &Exports::exportFlow);
+    connect(a.screenshot, &QAction::triggered, exports_, &Exports::saveScreenshot);
+    connect(a.quit, &QAction::triggered, this, &QWidget::close);
 
     // Edit.
-    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
-    QAction* undo = named(document_->undoStack()->createUndoAction(this, tr("&Undo")), "actionUndo");
-    undo->setShortcut(QKeySequence::Undo);
-    undo->setIcon(style->standardIcon(QStyle::SP_ArrowBack));
-    QAction* redo = named(document_->undoStack()->createRedoAction(this, tr("&Redo")), "actionRedo");
-    redo->setShortcut(QKeySequence::Redo);
-    redo->setIcon(style->standardIcon(QStyle::SP_ArrowForward));
-    edit->addAction(undo);
-    edit->addAction(redo);
-    edit->addSeparator();
-    named(edit->addAction(tr("Select All Lattice Points"), this,
-                          [this] {
-                              int l = selection_->lattice();
-                              if (l < 0 && document_->latticeCount() > 0) l = 0;
-                              if (l < 0) return;
-                              std::vector<int> all(static_cast<std::size_t>(document_->lattices()[static_cast<std::size_t>(l)].controlCount()));
-                              for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-                              selection_->selectPoints(l, std::move(all));
-                          }),
-          "actionSelectAllPoints")
-        ->setShortcut(QKeySequence(tr("Ctrl+Shift+A")));
-    resetPointsAction_ = named(edit->addAction(tr("Reset Selected Lattice Points"), this,
-                                               [this] {
-                                                   document_->resetLatticePoints(selection_->lattice(), selection_->points());
-                                               }),
-                               "actionResetPoints");
-    resetPointsAction_->setShortcut(QKeySequence(Qt::Key_Delete));
-    resetPointsAction_->setShortcutContext(Qt::WidgetWithChildrenShortcut);
-    viewport_->addAction(resetPointsAction_);
-    named(edit->addAction(tr("Reset Design Variables"), document_, &Document::resetDesignValues), "actionResetVariables");
+    QUndoStack* stack = document_->undoStack();
+    connect(a.undoTool, &QAction::triggered, stack, &QUndoStack::undo);
+    connect(a.redoTool, &QAction::triggered, stack, &QUndoStack::redo);
+    connect(stack, &QUndoStack::canUndoChanged, a.undoTool, &QAction::setEnabled);
+    connect(stack, &QUndoStack::canRedoChanged, a.redoTool, &QAction::setEnabled);
+    QAction* undoTool = a.undoTool;
+    QAction* redoTool = a.redoTool;
+    connect(stack, &QUndoStack::undoTextChanged, undoTool, [undoTool](const QString& t) {
+        undoTool->setToolTip(t.isEmpty() ? tr("Undo") : tr("Undo %1").arg(t));
+    });
+    connect(stack, &QUndoStack::redoTextChanged, redoTool, [redoTool](const QString& t) {
+        redoTool->setToolTip(t.isEmpty() ? tr("Redo") : tr("Redo %1").arg(t));
+    });
+    a.undoTool->setEnabled(stack->canUndo());
+    a.redoTool->setEnabled(stack->canRedo());
+    connect(a.selectAllPoints, &QAction::triggered, this, &MainWindow::selectAllLatticePoints);
+    connect(a.resetPoints, &QAction::triggered, this,
+            [this] { document_->resetLatticePoints(selection_->lattice(), selection_->points()); });
+    viewport_->addAction(a.resetPoints);
+    connect(a.resetVariables, &QAction::triggered, document_, &Document::resetDesignValues);
 
-    // View.
-    QMenu* view = menuBar()->addMenu(tr("&View"));
-    auto toggle = [&](const QString& text, const char* name, bool on, auto apply) {
-        QAction* a = view->addAction(text);
-        a->setObjectName(QString::fromLatin1(name));
-        a->setCheckable(true);
-        a->setChecked(on);
-        connect(a, &QAction::toggled, this, [this, apply](bool checked) {
+    // View: the toggles start as the scenes are.
+    auto toggle = [this](QAction* action, bool on, auto apply) {
+        action->setChecked(on);
+        connect(action, &QAction::toggled, this, [this, apply](bool checked) {
             apply(checked);
             viewport_->requestRender();
         });
-        return a;
     };
-    toggle(tr("&Surfaces"), "actionSurfaces", scene_->surfacesVisible(), [this](bool on) {
-        scene_->setSurfacesVisible(on);
-    });
-    toggle(tr("Patch &Edges"), "actionPatchEdges", scene_->edgesVisible(), [this](bool on) { scene_->setEdgesVisible(on); });
-    toggle(tr("&Control Nets"), "actionControlNets", scene_->controlNetsVisible(),
-           [this](bool on) { scene_->setControlNetsVisible(on); });
-    latticesAction_ = toggle(tr("FFD &Lattices"), "actionLattices", lattices_->visible(), [this](bool on) {
+    toggle(a.surfaces, scene_->surfacesVisible(), [this](bool on) { scene_->setSurfacesVisible(on); });
+    toggle(a.patchEdges, scene_->edgesVisible(), [this](bool on) { scene_->setEdgesVisible(on); });
+    toggle(a.controlNets, scene_->controlNetsVisible(), [this](bool on) { scene_->setControlNetsVisible(on); });
+    toggle(a.lattices, lattices_->visible(), [this](bool on) {
         lattices_->setVisible(on);
         if (tree_->latticesItem()->checkState(0) != (on ? Qt::Checked : Qt::Unchecked))
             tree_->latticesItem()->setCheckState(0, on ? Qt::Checked : Qt::Unchecked);
     });
-    latticesAction_->setShortcut(QKeySequence(tr("Ctrl+L")));
-    sensitivityAction_ = toggle(tr("Sensitivity &Arrows"), "actionSensitivity", false, [this](bool on) {
+    toggle(a.sensitivity, false, [this](bool on) {
         variables_->setSensitivityShown(on);
         updateSensitivity();
     });
-    sensitivityAction_->setToolTip(tr("Arrows dS/dv of the selected design variable"));
-    toggle(tr("Orientation A&xes"), "actionOrientationAxes", viewport_->orientationAxesVisible(),
-           [this](bool on) { viewport_->setOrientationAxesVisible(on); });
-    view->addSeparator();
-    QAction* reset = view->addAction(tr("&Reset Camera"), this, [this] {
+    toggle(a.orientationAxes, viewport_->orientationAxesVisible(), [this](bool on) { viewport_->setOrientationAxesVisible(on); });
+    connect(a.resetCamera, &QAction::triggered, this, [this] {
         resetCamera();
         viewport_->requestRender();
     });
-    reset->setObjectName(QStringLiteral("actionResetCamera"));
-    reset->setShortcut(QKeySequence(tr("Ctrl+R")));
-    auto viewAction = [&](const QString& text, const char* name, const char* key, std::array<double, 3> dir,
-                          std::array<double, 3> up) {
-        QAction* a = view->addAction(text, this, [this, dir, up] {
+    auto view = [this](QAction* action, std::array<double, 3> dir, std::array<double, 3> up) {
+        connect(action, &QAction::triggered, this, [this, dir, up] {
             setView(dir, up);
             viewport_->requestRender();
         });
-        a->setObjectName(QString::fromLatin1(name));
-        a->setShortcut(QKeySequence(QString::fromLatin1(key)));
     };
-    viewAction(tr("&Front (from upstream)"), "actionViewFront", "Ctrl+1", {1, 0, 0}, {0, 0, 1});
-    viewAction(tr("S&ide (from +Y)"), "actionViewSide", "Ctrl+2", {0, -1, 0}, {0, 0, 1});
-    viewAction(tr("&Top (planform)"), "actionViewTop", "Ctrl+3", {0, 0, -1}, {0, 1, 0});
-    view->addSeparator();
-    QMenu* panels = view->addMenu(tr("&Panels"));
-    for (QDockWidget* dock : findChildren<QDockWidget*>()) panels->addAction(dock->toggleViewAction());
-    connect(sensitivityAction_, &QAction::toggled, variables_, &DesignVariablePanel::setSensitivityShown);
-    connect(variables_, &DesignVariablePanel::sensitivityToggled, sensitivityAction_, &QAction::setChecked);
+    view(a.viewFront, {1, 0, 0}, {0, 0, 1});
+    view(a.viewSide, {0, -1, 0}, {0, 0, 1});
+    view(a.viewTop, {0, 0, -1}, {0, 1, 0});
+    QAction* sensitivity = a.sensitivity;
+    connect(variables_, &DesignVariablePanel::sensitivityToggled, sensitivity, &QAction::setChecked);
     connect(variables_, &DesignVariablePanel::sensitivityToggled, this, [this] {
         updateSensitivity();
         viewport_->requestRender();
@@ -382,89 +326,31 @@ void MainWindow::createMenus() {
     });
 
     // FFD.
-    QMenu* ffdMenu = menuBar()->addMenu(tr("F&FD"));
-    QAction* add = named(ffdMenu->addAction(tr("&Add Lattice..."), this, &MainWindow::addLattice), "actionAddLattice");
-    add->setShortcut(QKeySequence(tr("Ctrl+Shift+L")));
-    add->setToolTip(tr("Place an FFD lattice around the geometry or the selected patches"));
-    needsGeometry_.push_back(add);
-    removeLatticeAction_ = named(ffdMenu->addAction(tr("&Remove Selected Lattice"), this,
-                                                    [this] { document_->removeLattice(selection_->lattice()); }),
-                                 "actionRemoveLattice");
+    connect(a.addLattice, &QAction::triggered, this, &MainWindow::addLattice);
+    connect(a.removeLattice, &QAction::triggered, this, [this] { document_->removeLattice(selection_->lattice()); });
 
-    // Mesh: the preview runs as a worker-thread job (jobs_); MeshPreviewer drives it.
-    QMenu* mesh = menuBar()->addMenu(tr("&Mesh"));
-    mesh->setToolTipsVisible(true);
-    meshPreviewAction_ = named(mesh->addAction(tr("&Preview"), this, &MainWindow::startMeshPreview), "actionMeshPreview");
-    meshPreviewAction_->setShortcut(QKeySequence(tr("Ctrl+M")));
-    meshPreviewAction_->setIconText(tr("Mesh Preview"));
-    meshPreviewAction_->setToolTip(tr("Generate the volume grid at the case's level, move it to the deformed geometry "
-                                      "and check its cells"));
-    meshCancelAction_ = named(mesh->addAction(tr("&Cancel Preview"), previewer_, &MeshPreviewer::cancel),
-                              "actionMeshCancel");
-    meshClearAction_ = named(mesh->addAction(tr("C&lear Preview"), previewer_, &MeshPreviewer::clear), "actionMeshClear");
-    mesh->addSeparator();
-    QAction* qualityPanel = findChild<QDockWidget*>(QStringLiteral("meshQualityDock"))->toggleViewAction();
-    qualityPanel->setText(tr("Mesh &Quality Panel"));
-    mesh->addAction(qualityPanel);
-    mesh->addAction(exportGridAction_);
+    // Mesh.
+    connect(a.meshPreview, &QAction::triggered, this, &MainWindow::startMeshPreview);
+    connect(a.meshCancel, &QAction::triggered, previewer_, &MeshPreviewer::cancel);
+    connect(a.meshClear, &QAction::triggered, previewer_, &MeshPreviewer::clear);
+
+    // Flow.
+    connect(a.flowSolve, &QAction::triggered, this, [this] { startFlowSolve(false); });
+    connect(a.flowContinue, &QAction::triggered, this, [this] { startFlowSolve(true); });
+    connect(a.flowStop, &QAction::triggered, flow_, &FlowWorkspace::stop);
+    // A solve, however started (the panel's buttons too), brings its panel and plot forward.
+    connect(&flow_->runner(), &FlowRunner::started, this, [this] {
+        for (const char* name : {"flowDock", "residualsDock"}) {
+            if (auto* d = findChild<QDockWidget*>(QString::fromLatin1(name))) {
+                d->show();
+                d->raise();
+            }
+        }
+    });
 
     // Help.
-    QMenu* help = menuBar()->addMenu(tr("&Help"));
-    help->addAction(tr("&Mouse and Keys"), this, [this] {
-        QMessageBox::information(
-            this, tr("Mouse and Keys"),
-            tr("<p><b>View</b>: left drag rotates, middle drag (or Shift+left) pans, the wheel zooms; Ctrl+R "
-               "resets the camera, Ctrl+1/2/3 look from the front, side and top.</p>"
-               "<p><b>Lattice points</b>: click to select, Ctrl+click to add or remove, drag to move in the "
-               "view plane, Shift+drag to move along X, Y or Z, Esc cancels a drag; Delete resets the "
-               "selected points. Exact coordinates go in the Properties panel.</p>"
-               "<p><b>Design variables</b>: sliders and spin boxes in the Design Variables panel; a slider "
-               "drag is one undo step.</p>"
-               "<p><b>Mesh preview</b>: Ctrl+M generates the grid (level and increments in the Mesh Quality "
-               "panel); the model tree's Grid blocks toggle the control grid, wall, symmetry plane and slice; "
-               "click a worst cell to fly the camera to it.</p>"));
-    });
-    help->addAction(tr("&About Aeroform"), this, [this] {
-        QMessageBox::about(this, tr("About Aeroform"),
-                           tr("<p><b>Aeroform</b> %1</p><p>Aerodynamic shape design with the two-level free-form "
-                              "deformation of Gagnon &amp; Zingg.</p>")
-                               .arg(QApplication::applicationVersion()));
-    });
-
-    // Tool bar.
-    QToolBar* bar = addToolBar(tr("Main"));
-    bar->setObjectName(QStringLiteral("mainToolBar"));
-    bar->setMovable(false);
-    bar->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
-    bar->addAction(open);
-    bar->addAction(saveAction_);
-    bar->addSeparator();
-    // The tool bar's undo/redo keep short labels (the menu's say what they undo); the command
-    // goes into the tooltip.
-    auto* stack = document_->undoStack();
-    QAction* undoTool = named(new QAction(undo->icon(), tr("Undo"), this), "toolUndo");
-    QAction* redoTool = named(new QAction(redo->icon(), tr("Redo"), this), "toolRedo");
-    connect(undoTool, &QAction::triggered, stack, &QUndoStack::undo);
-    connect(redoTool, &QAction::triggered, stack, &QUndoStack::redo);
-    connect(stack, &QUndoStack::canUndoChanged, undoTool, &QAction::setEnabled);
-    connect(stack, &QUndoStack::canRedoChanged, redoTool, &QAction::setEnabled);
-    connect(stack, &QUndoStack::undoTextChanged, undoTool, [undoTool](const QString& t) {
-        undoTool->setToolTip(t.isEmpty() ? tr("Undo") : tr("Undo %1").arg(t));
-    });
-    connect(stack, &QUndoStack::redoTextChanged, redoTool, [redoTool](const QString& t) {
-        redoTool->setToolTip(t.isEmpty() ? tr("Redo") : tr("Redo %1").arg(t));
-    });
-    undoTool->setEnabled(stack->canUndo());
-    redoTool->setEnabled(stack->canRedo());
-    bar->addAction(undoTool);
-    bar->addAction(redoTool);
-    bar->addSeparator();
-    bar->addAction(add);
-    bar->addAction(latticesAction_);
-    bar->addAction(sensitivityAction_);
-    bar->addAction(meshPreviewAction_);
-    bar->addSeparator();
-    bar->addAction(reset);
+    connect(a.mouseAndKeys, &QAction::triggered, this, [this] { showMouseAndKeys(this); });
+    connect(a.about, &QAction::triggered, this, [this] { showAbout(this); });
 }
 
 void MainWindow::connectDocument() {
@@ -502,7 +388,7 @@ void MainWindow::connectDocument() {
     connect(meshPanel_, &MeshPanel::cancelRequested, previewer_, &MeshPreviewer::cancel);
     connect(meshPanel_, &MeshPanel::optionsEdited, this, [this, showMeshOptions](const QString& level, int increments) {
         QString error;
-        if (!guarded([&] { document_->setMeshOptions(level.toStdString(), increments); }, &error)) {
+        if (!ProjectFiles::guarded([&] { document_->setMeshOptions(level.toStdString(), increments); }, &error)) {
             showMeshOptions();
             QMessageBox::critical(this, tr("Cannot change the mesh options"), error);
         }
@@ -520,13 +406,19 @@ void MainWindow::connectDocument() {
     });
     connect(meshPanel_, &MeshPanel::worstCellActivated, this, [this](int index) { previewer_->flyToWorstCell(index); });
     connect(previewer_, &MeshPreviewer::stateChanged, this, &MainWindow::onMeshPreviewStateChanged);
-    connect(previewer_, &MeshPreviewer::message, this, [this](const QString& text, int timeoutMs) {
-        statusBar()->showMessage(text, timeoutMs);
-    });
-    connect(jobs_, &BackgroundJob::started, this, &MainWindow::updateActions);
-    connect(jobs_, &BackgroundJob::finished, this, &MainWindow::updateActions);
     meshScene_->setMetric(meshPanel_->metric());
-    applyGridVisibility();
+
+    // Flow: a shown solution takes the place of the geometry (and of a grid preview's wall).
+    connect(flow_, &FlowWorkspace::solutionShownChanged, this, [this](bool shown) {
+        if (shown && tree_->gridPartShown(ModelTree::WallPart)) tree_->gridItem()->setCheckState(0, Qt::Unchecked);
+        applyResultVisibility();
+        updateActions();
+    });
+    connect(&flow_->runner(), &FlowRunner::stateChanged, this, &MainWindow::updateActions);
+
+    connect(jobs_, &JobRunner::jobStarted, this, &MainWindow::updateActions);
+    connect(jobs_, &JobRunner::jobFinished, this, &MainWindow::updateActions);
+    applyResultVisibility();
     connect(selection_, &Selection::changed, this, [this] {
         const bool points = selection_->kind() == Selection::Kind::LatticePoints;
         lattices_->setSelection(points ? selection_->lattice() : -1, selection_->points());
@@ -564,7 +456,7 @@ void MainWindow::onReset() {
 
 void MainWindow::onShapeChanged(const QVector<int>& patches) {
     scene_->updatePatches(document_->shape(), std::vector<int>(patches.begin(), patches.end()));
-    if (sensitivityAction_->isChecked()) updateSensitivity();
+    if (actions_->sensitivity->isChecked()) updateSensitivity();
     viewport_->requestRender();
 }
 
@@ -619,10 +511,10 @@ QString MainWindow::problemText() const {
 void MainWindow::updateSensitivity() {
     const int var = variables_->currentVariable();
     const ffd::FfdModel* model = document_->model();
-    if (!sensitivityAction_->isChecked() || !model || var < 0 || var >= model->design().size()) {
+    const bool on = actions_->sensitivity->isChecked();
+    if (!on || !model || var < 0 || var >= model->design().size()) {
         overlay_->clearArrows();
-        variables_->setSensitivityNote(sensitivityAction_->isChecked() && model ? tr("Select a variable to see its arrows.")
-                                                                                : QString());
+        variables_->setSensitivityNote(on && model ? tr("Select a variable to see its arrows.") : QString());
         return;
     }
     const geometry::PatchSet derivative = document_->shapeDerivative(var);
@@ -669,20 +561,27 @@ void MainWindow::updateTitle() {
 }
 
 void MainWindow::updateActions() {
+    const ActionSet& a = *actions_;
     const bool geometry = document_->hasGeometry();
-    for (QAction* a : needsGeometry_) a->setEnabled(geometry);
-    saveAction_->setEnabled(geometry);
-    removeLatticeAction_->setEnabled(selection_->kind() == Selection::Kind::Lattice ||
-                                     selection_->kind() == Selection::Kind::LatticePoints);
-    resetPointsAction_->setEnabled(selection_->kind() == Selection::Kind::LatticePoints);
+    for (QAction* action : {a.saveAs, a.exportGeometry, a.exportVtk, a.addLattice}) action->setEnabled(geometry);
+    a.save->setEnabled(geometry);
+    a.removeLattice->setEnabled(selection_->kind() == Selection::Kind::Lattice ||
+                                selection_->kind() == Selection::Kind::LatticePoints);
+    a.resetPoints->setEnabled(selection_->kind() == Selection::Kind::LatticePoints);
     const MeshPreviewer::State mesh = previewer_->state();
-    meshPreviewAction_->setEnabled(geometry && !jobs_->running());
-    meshCancelAction_->setEnabled(mesh == MeshPreviewer::State::Running);
-    meshClearAction_->setEnabled(previewer_->result() != nullptr);
-    exportGridAction_->setEnabled(mesh == MeshPreviewer::State::Ready);
-    exportGridAction_->setStatusTip(mesh == MeshPreviewer::State::Ready ? QString()
-                                                                        : tr("Run Mesh > Preview first (Ctrl+M)"));
-    meshPanel_->previewButton()->setEnabled(geometry && (!jobs_->running() || mesh == MeshPreviewer::State::Running));
+    const bool meshRunning = mesh == MeshPreviewer::State::Running;
+    a.meshPreview->setEnabled(geometry && !meshRunning);
+    a.meshCancel->setEnabled(meshRunning);
+    a.meshClear->setEnabled(previewer_->result() != nullptr);
+    a.exportGrid->setEnabled(mesh == MeshPreviewer::State::Ready);
+    a.exportGrid->setStatusTip(mesh == MeshPreviewer::State::Ready ? QString() : tr("Run Mesh > Preview first (Ctrl+M)"));
+    meshPanel_->previewButton()->setEnabled(geometry);
+    const FlowRunner& flow = flow_->runner();
+    a.flowSolve->setEnabled(geometry && !flow.running());
+    a.flowStop->setEnabled(flow.running());
+    a.flowContinue->setEnabled(geometry && !flow.running() && flow.canContinue());
+    a.exportFlow->setEnabled(flow.result() != nullptr);
+    flow_->panel()->solveButton()->setEnabled(geometry);
 }
 
 // ---- Camera ---------------------------------------------------------------------------------------
@@ -710,189 +609,29 @@ void MainWindow::setView(const std::array<double, 3>& direction, const std::arra
 
 // ---- Files ------------------------------------------------------------------------------------------
 
-bool MainWindow::guarded(const std::function<void()>& work, QString* error) {
-    try {
-        work();
-        return true;
-    } catch (const aero::Error& e) {
-        if (error) *error = QString::fromStdString(e.what());
-    } catch (const std::exception& e) {  // not expected from libcore, but never let it escape
-        if (error) *error = tr("Unexpected error: %1").arg(QString::fromStdString(e.what()));
-    }
-    return false;
-}
-
 bool MainWindow::loadFile(const QString& path, QString* error) {
-    const QFileInfo info(path);
-    const QString suffix = info.suffix().toLower();
-    const std::string file = QFile::encodeName(path).toStdString();
-    bool project = false;
-    if (suffix == QLatin1String("json")) {
-        project = io::looksLikeCase(file);
-    } else if (suffix != QLatin1String("igs") && suffix != QLatin1String("iges")) {
-        if (error)
-            *error = tr("'%1': unsupported file type (expected a project .json, a patch set .json, .igs or .iges)").arg(path);
-        return false;
-    }
-    if (!guarded([&] { project ? document_->openProject(path) : document_->newFromGeometry(path); }, error)) return false;
-    lastDirectory_ = info.absolutePath();
-    addRecentFile(info.absoluteFilePath());
-    return true;
+    return files_->load(path, error);
 }
 
 bool MainWindow::loadSample(QString* error, bool withPaperLattice) {
-    return guarded([&] { document_->newFromSample(withPaperLattice); }, error);
+    return files_->loadSample(error, withPaperLattice);
 }
 
 bool MainWindow::saveProject(const QString& path, QString* error) {
-    if (!guarded([&] { document_->saveProject(path); }, error)) return false;
-    lastDirectory_ = QFileInfo(path).absolutePath();
-    addRecentFile(QFileInfo(path).absoluteFilePath());
-    statusBar()->showMessage(document_->loadMessage().isEmpty() ? tr("Saved %1").arg(path) : document_->loadMessage(), 8000);
-    return true;
+    return files_->saveTo(path, error);
 }
 
 bool MainWindow::openFile(const QString& path) {
-    if (!maybeSave()) return false;
-    QString error;
-    if (loadFile(path, &error)) return true;
-    QMessageBox::critical(this, tr("Cannot open file"), error);
-    return false;
+    return files_->open(path);
 }
 
 bool MainWindow::openSample(bool withPaperLattice) {
-    if (!maybeSave()) return false;
-    QString error;
-    if (loadSample(&error, withPaperLattice)) return true;
-    QMessageBox::critical(this, tr("Cannot create the sample"), error);
-    return false;
+    return files_->openSample(withPaperLattice);
 }
 
 void MainWindow::offerRecovery() {
-    if (!autosaver_) return;
-    const auto sessions = Autosaver::findRecoverable(autosaver_->directory());
-    if (sessions.isEmpty()) return;
-    const Autosaver::Recoverable& r = sessions.front();  // the most recent
-    QMessageBox box(QMessageBox::Question, tr("Recover Unsaved Work"),
-                    tr("Aeroform did not close normally. Unsaved work on \u201c%1\u201d was autosaved at %2.")
-                        .arg(r.title.isEmpty() ? tr("an unsaved project") : r.title,
-                             QLocale().toString(r.saved, QLocale::ShortFormat)),
-                    QMessageBox::NoButton, this);
-    box.setInformativeText(tr("Recover it now? Discard deletes the autosaved copy."));
-    QPushButton* recover = box.addButton(tr("Recover"), QMessageBox::AcceptRole);
-    QPushButton* discard = box.addButton(tr("Discard"), QMessageBox::DestructiveRole);
-    box.addButton(tr("Not Now"), QMessageBox::RejectRole);
-    box.setDefaultButton(recover);
-    box.exec();
-    if (box.clickedButton() == discard) {
-        Autosaver::discard(r);
-    } else if (box.clickedButton() == recover) {
-        QString error;
-        if (guarded([&] { document_->recover(r.casePath, r.projectPath, r.generated, r.title); }, &error)) {
-            autosaver_->saveNow();  // our own session holds it now
-            Autosaver::discard(r);
-            statusBar()->showMessage(tr("Recovered the autosaved work; save it to keep it."), 10000);
-        } else {
-            QMessageBox::critical(this, tr("Cannot recover"), error);
-        }
-    }
+    files_->offerRecovery(autosaver_);
 }
-
-bool MainWindow::maybeSave() {
-    if (!document_->isModified()) return true;
-    const auto answer = QMessageBox::warning(
-        this, tr("Unsaved Changes"),
-        tr("\u201c%1\u201d has unsaved changes. Save them first?").arg(document_->title()),
-        QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
-    if (answer == QMessageBox::Save) return save();
-    return answer == QMessageBox::Discard;
-}
-
-bool MainWindow::save() {
-    if (document_->projectPath().isEmpty()) return saveAs();
-    QString error;
-    if (saveProject(document_->projectPath(), &error)) return true;
-    QMessageBox::critical(this, tr("Cannot save"), error);
-    return false;
-}
-
-bool MainWindow::saveAs() {
-    QString suggestion = document_->projectPath();
-    if (suggestion.isEmpty())
-        suggestion = QDir(lastDirectory_.isEmpty() ? QDir::homePath() : lastDirectory_)
-                         .filePath(QFileInfo(document_->title()).completeBaseName().replace(QLatin1Char(' '), QLatin1Char('_')) +
-                                   QStringLiteral("_project.json"));
-    QString path = QFileDialog::getSaveFileName(this, tr("Save Project"), suggestion,
-                                                tr("Aeroform project (*.json)"));
-    if (path.isEmpty()) return false;
-    if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".json");
-    QString error;
-    if (saveProject(path, &error)) return true;
-    QMessageBox::critical(this, tr("Cannot save"), error);
-    return false;
-}
-
-void MainWindow::chooseAndOpen() {
-    if (!maybeSave()) return;
-    const QString path = QFileDialog::getOpenFileName(
-        this, tr("Open"), lastDirectory_,
-        tr("Projects and geometry (*.json *.igs *.iges *.IGS *.IGES);;Aeroform project or patch set (*.json);;"
-           "IGES (*.igs *.iges *.IGS *.IGES);;All files (*)"));
-    if (path.isEmpty()) return;
-    QString error;
-    if (!loadFile(path, &error)) QMessageBox::critical(this, tr("Cannot open file"), error);
-}
-
-void MainWindow::addRecentFile(const QString& path) {
-    if (!options_.recentFiles) return;
-    QSettings settings;
-    QStringList list = settings.value(QLatin1String(kRecentKey)).toStringList();
-    list.removeAll(path);
-    list.prepend(path);
-    while (list.size() > kMaxRecent) list.removeLast();
-    settings.setValue(QLatin1String(kRecentKey), list);
-}
-
-void MainWindow::fillRecentMenu() {
-    recentMenu_->clear();
-    const QStringList list = options_.recentFiles ? QSettings().value(QLatin1String(kRecentKey)).toStringList() : QStringList();
-    int n = 0;
-    for (const QString& path : list) {
-        if (!QFileInfo::exists(path)) continue;
-        QAction* a = recentMenu_->addAction(QStringLiteral("&%1 %2").arg(++n).arg(QFileInfo(path).fileName()), this,
-                                            [this, path] { openFile(path); });
-        a->setToolTip(path);
-        a->setStatusTip(path);
-    }
-    if (n == 0) recentMenu_->addAction(tr("(none)"))->setEnabled(false);
-    recentMenu_->addSeparator();
-    recentMenu_->addAction(tr("Clear List"), this, [] { QSettings().remove(QLatin1String(kRecentKey)); });
-}
-
-void MainWindow::dragEnterEvent(QDragEnterEvent* e) {
-    const QMimeData* mime = e->mimeData();
-    if (mime->hasUrls() && !mime->urls().isEmpty() && mime->urls().front().isLocalFile() &&
-        supportedSuffix(mime->urls().front().toLocalFile()))
-        e->acceptProposedAction();
-}
-
-void MainWindow::dropEvent(QDropEvent* e) {
-    const QList<QUrl> urls = e->mimeData()->urls();
-    if (urls.isEmpty() || !urls.front().isLocalFile()) return;
-    e->acceptProposedAction();
-    const QString path = urls.front().toLocalFile();
-    // Open after the drop returns (the source application waits for it).
-    QMetaObject::invokeMethod(this, [this, path] { openFile(path); }, Qt::QueuedConnection);
-}
-
-void MainWindow::closeEvent(QCloseEvent* e) {
-    if (maybeSave())
-        e->accept();
-    else
-        e->ignore();
-}
-
-// ---- Export -------------------------------------------------------------------------------------
 
 bool MainWindow::saveScreenshot(const QString& path, QString* error) {
     const QImage image = viewport_->grabImage();
@@ -907,74 +646,85 @@ bool MainWindow::saveScreenshot(const QString& path, QString* error) {
     return true;
 }
 
-void MainWindow::chooseAndSaveScreenshot() {
-    const QString path =
-        QFileDialog::getSaveFileName(this, tr("Save Screenshot"), lastDirectory_,
-                                     tr("PNG image (*.png);;JPEG image (*.jpg *.jpeg)"));
-    if (path.isEmpty()) return;
-    QString error;
-    if (saveScreenshot(path, &error))
-        statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
-    else
-        QMessageBox::critical(this, tr("Cannot save screenshot"), error);
+void MainWindow::dragEnterEvent(QDragEnterEvent* e) {
+    const QMimeData* mime = e->mimeData();
+    if (mime->hasUrls() && !mime->urls().isEmpty() && mime->urls().front().isLocalFile() &&
+        ProjectFiles::supported(mime->urls().front().toLocalFile()))
+        e->acceptProposedAction();
 }
 
-void MainWindow::exportGeometry() {
-    if (!document_->problems().isEmpty()) {
-        const auto answer = QMessageBox::warning(this, tr("Export Deformed Geometry"),
-                                                 tr("The current state has problems:\n\n%1\n\nExport anyway?").arg(problemText()),
-                                                 QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel);
-        if (answer != QMessageBox::Yes) return;
+void MainWindow::dropEvent(QDropEvent* e) {
+    const QList<QUrl> urls = e->mimeData()->urls();
+    if (urls.isEmpty() || !urls.front().isLocalFile()) return;
+    e->acceptProposedAction();
+    const QString path = urls.front().toLocalFile();
+    // Open after the drop returns (the source application waits for it).
+    QMetaObject::invokeMethod(this, [this, path] { openFile(path); }, Qt::QueuedConnection);
+}
+
+void MainWindow::closeEvent(QCloseEvent* e) {
+    if (!jobs_->busy()) {
+        if (files_->maybeSave())
+            e->accept();
+        else
+            e->ignore();
+        return;
     }
-    const QString path = QFileDialog::getSaveFileName(this, tr("Export Deformed Geometry"), lastDirectory_,
-                                                      tr("IGES (*.igs *.iges);;Aeroform patch set (*.json)"));
-    if (path.isEmpty()) return;
-    QString error;
-    if (guarded([&] { document_->exportGeometry(path); }, &error))
-        statusBar()->showMessage(tr("Exported %1").arg(path), 5000);
-    else
-        QMessageBox::critical(this, tr("Cannot export"), error);
-}
-
-void MainWindow::exportVtk() {
-    QString path = QFileDialog::getSaveFileName(this, tr("Export for ParaView"), lastDirectory_,
-                                                tr("VTK multiblock (*.vtm)"));
-    if (path.isEmpty()) return;
-    if (QFileInfo(path).suffix().toLower() != QLatin1String("vtm")) path += QStringLiteral(".vtm");
-    QString error;
-    if (guarded([&] { document_->exportVtk(path); }, &error))
-        statusBar()->showMessage(tr("Exported %1").arg(path), 5000);
-    else
-        QMessageBox::critical(this, tr("Cannot export"), error);
-}
-
-void MainWindow::exportGrid() {
-    QString filter;
-    QString path = QFileDialog::getSaveFileName(
-        this, tr("Export Grid"), lastDirectory_,
-        tr("VTK multiblock with quality fields (*.vtm);;Plot3D binary (*.xyz);;Plot3D ASCII (*.p3d)"), &filter);
-    if (path.isEmpty()) return;
-    if (QFileInfo(path).suffix().isEmpty())
-        path += filter.contains(QLatin1String("*.xyz")) ? QStringLiteral(".xyz")
-                : filter.contains(QLatin1String("*.p3d")) ? QStringLiteral(".p3d")
-                                                           : QStringLiteral(".vtm");
-    QString error;
+    // Ask about the running work first, then about unsaved changes; stop the work only when
+    // both said yes (a Cancel anywhere keeps everything running).
+    if (!confirmQuitWhileWorking() || !files_->maybeSave()) {
+        e->ignore();
+        return;
+    }
     QApplication::setOverrideCursor(Qt::WaitCursor);
-    const bool ok = guarded([&] { previewer_->exportGrid(path); }, &error);
+    statusBar()->showMessage(tr("Stopping the background work..."));
+    jobs_->cancelAll();
+    jobs_->waitAll(kQuitWaitMs);
     QApplication::restoreOverrideCursor();
-    if (ok)
-        statusBar()->showMessage(tr("Exported %1").arg(path), 5000);
-    else
-        QMessageBox::critical(this, tr("Cannot export the grid"), error);
+    // Deliver the jobs' endings (the flow keeps its restart file on the worker already).
+    QCoreApplication::sendPostedEvents();
+    e->accept();
 }
 
-// ---- Mesh preview -------------------------------------------------------------------------------
+bool MainWindow::confirmQuitWhileWorking() {
+    QStringList running;
+    for (Job* job : jobs_->jobs()) running << job->title();
+    QString detail;
+    if (flow_->runner().running()) {
+        const QString restart = flow_->runner().restartPath();
+        detail = restart.isEmpty()
+                     ? tr("The flow solve's state is lost: the project has not been saved, so there is no place to keep "
+                          "it (save the project first to be able to continue the run later).")
+                     : tr("The flow solve stops at its next iteration and keeps its state in %1; Flow > Continue resumes "
+                          "it when you open the project again.")
+                           .arg(restart);
+    }
+    QMessageBox box(QMessageBox::Question, tr("Quit While Working"),
+                    tr("%1 still running. Stop and quit?").arg(running.join(tr(" and ")) +
+                                                              (running.size() == 1 ? tr(" is") : tr(" are"))),
+                    QMessageBox::NoButton, this);
+    box.setObjectName(QStringLiteral("quitWhileWorking"));
+    if (!detail.isEmpty()) box.setInformativeText(detail);
+    QPushButton* stop = box.addButton(tr("Stop and Quit"), QMessageBox::AcceptRole);
+    stop->setObjectName(QStringLiteral("stopAndQuit"));
+    QPushButton* keep = box.addButton(tr("Keep Working"), QMessageBox::RejectRole);
+    box.setDefaultButton(keep);
+    box.exec();
+    return box.clickedButton() == stop;
+}
+
+// ---- Mesh preview and flow --------------------------------------------------------------------------
 
 void MainWindow::startMeshPreview() {
+    if (previewer_->state() == MeshPreviewer::State::Running) {
+        previewer_->cancel();
+        return;
+    }
     if (!document_->problems().isEmpty()) {
-        const auto answer = QMessageBox::warning(this, tr("Mesh Preview"),
-                                                 tr("The current state has problems:\n\n%1\n\nPreview the mesh anyway?").arg(problemText()),
-                                                 QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel);
+        const auto answer =
+            QMessageBox::warning(this, tr("Mesh Preview"),
+                                 tr("The current state has problems:\n\n%1\n\nPreview the mesh anyway?").arg(problemText()),
+                                 QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel);
         if (answer != QMessageBox::Yes) return;
     }
     QString error;
@@ -982,19 +732,28 @@ void MainWindow::startMeshPreview() {
         statusBar()->showMessage(error, 8000);
         return;
     }
-    if (auto* dock = findChild<QDockWidget*>(QStringLiteral("meshQualityDock"))) {
-        dock->show();
-        dock->raise();
+    if (auto* d = findChild<QDockWidget*>(QStringLiteral("meshQualityDock"))) {
+        d->show();
+        d->raise();
     }
+}
+
+void MainWindow::startFlowSolve(bool continueRun) {
+    if (flow_->runner().running()) return;
+    if (continueRun)
+        flow_->continueRun();
+    else
+        flow_->solve();
 }
 
 void MainWindow::onMeshPreviewStateChanged() {
     using State = MeshPreviewer::State;
-    const State state = previewer_->state();
-    switch (state) {
+    switch (previewer_->state()) {
         case State::Ready:
             tree_->setGridState(counted(static_cast<long long>(previewer_->result()->grids.size()), tr("block"), tr("blocks")), true,
                                 tr("The mesh preview's grid: %1").arg(previewer_->description()));
+            if (!tree_->gridItem()->isDisabled() && tree_->gridItem()->checkState(0) != Qt::Checked)
+                tree_->gridItem()->setCheckState(0, Qt::Checked);  // a new preview is shown
             break;
         case State::Outdated:
             tree_->setGridState(tr("outdated"), false,
@@ -1007,28 +766,30 @@ void MainWindow::onMeshPreviewStateChanged() {
             tree_->setGridState({}, false);
             break;
     }
-    applyGridVisibility();
+    applyResultVisibility();
     updateActions();
     updateDiagnostics();
 }
 
-void MainWindow::applyGridVisibility() {
+void MainWindow::applyResultVisibility() {
     for (int p = 0; p < ModelTree::GridPartCount; ++p) meshScene_->setPartVisible(static_cast<MeshPart>(p), tree_->gridPartShown(p));
-    // The grid's wall lies on the geometry's surfaces: hide those while it is shown.
-    const bool wall = previewer_ && previewer_->state() == MeshPreviewer::State::Ready && tree_->gridPartShown(ModelTree::WallPart);
+    // A grid's or a flow solution's wall lies on the geometry's surfaces: hide those while one
+    // is shown.
+    const bool gridWall = previewer_ && previewer_->state() == MeshPreviewer::State::Ready && tree_->gridPartShown(ModelTree::WallPart);
+    const bool wall = gridWall || flowScene_->wallShown();
     const bool geometryShown = tree_->geometryItem()->checkState(0) == Qt::Checked;
     settingGeometry_ = true;
     if (wall && geometryShown) {
         tree_->geometryItem()->setCheckState(0, Qt::Unchecked);
-        geometryHiddenForGrid_ = true;
-    } else if (!wall && geometryHiddenForGrid_) {
-        geometryHiddenForGrid_ = false;
+        geometryHiddenForResults_ = true;
+    } else if (!wall && geometryHiddenForResults_) {
+        geometryHiddenForResults_ = false;
         if (!geometryShown) {
             tree_->geometryItem()->setCheckState(0, Qt::Checked);
         } else {  // checked again without a signal (a new document): show the surfaces ourselves
             scene_->setSurfacesVisible(true);
-            scene_->setEdgesVisible(findChild<QAction*>(QStringLiteral("actionPatchEdges"))->isChecked());
-            findChild<QAction*>(QStringLiteral("actionSurfaces"))->setChecked(true);
+            scene_->setEdgesVisible(actions_->patchEdges->isChecked());
+            actions_->surfaces->setChecked(true);
         }
     }
     settingGeometry_ = false;
@@ -1037,10 +798,19 @@ void MainWindow::applyGridVisibility() {
 
 // ---- FFD ----------------------------------------------------------------------------------------
 
+void MainWindow::selectAllLatticePoints() {
+    int l = selection_->lattice();
+    if (l < 0 && document_->latticeCount() > 0) l = 0;
+    if (l < 0) return;
+    std::vector<int> all(static_cast<std::size_t>(document_->lattices()[static_cast<std::size_t>(l)].controlCount()));
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    selection_->selectPoints(l, std::move(all));
+}
+
 void MainWindow::addLattice() {
     if (!document_->hasGeometry()) return;
-    QString name = QStringLiteral("L%1").arg(document_->latticeCount());
-    for (int k = document_->latticeCount(); ; ++k) {
+    QString name;
+    for (int k = document_->latticeCount();; ++k) {
         name = k == 0 ? QStringLiteral("body") : QStringLiteral("L%1").arg(k);
         bool taken = false;
         for (const auto& l : document_->caseFile().lattices) taken = taken || QString::fromStdString(l.name) == name;
@@ -1051,12 +821,12 @@ void MainWindow::addLattice() {
     LatticeDialog dialog(name, patches, this);
     if (dialog.exec() != QDialog::Accepted) return;
     QString error;
-    if (!guarded([&] { document_->addLattice(dialog.lattice(), dialog.stations()); }, &error)) {
+    if (!ProjectFiles::guarded([&] { document_->addLattice(dialog.lattice(), dialog.stations()); }, &error)) {
         QMessageBox::critical(this, tr("Cannot add the lattice"), error);
         return;
     }
     selection_->selectLattice(document_->latticeCount() - 1);
-    latticesAction_->setChecked(true);
+    actions_->lattices->setChecked(true);
     resetCamera();
     viewport_->requestRender();
 }

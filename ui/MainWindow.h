@@ -1,33 +1,35 @@
 #pragma once
 // The desktop application's main window: the VTK viewport in the centre, the model tree and
-// the property panel on the left, the design variables and the mesh quality on the right; File
-// (open, recent, save, export), Edit (undo/redo), View, FFD and Mesh menus; a status bar that
-// explains problems (non-injective lattices, points outside lattices, tangled grid cells) and
-// shows background jobs (the mesh preview) with a progress bar and Cancel.
+// the property panel on the left, the design variables, the mesh quality and the flow panel on
+// the right, the residual history and the spanwise sections below; menus and a tool bar of typed
+// actions (ActionSet, Menus); a status bar that explains problems (non-injective lattices, points
+// outside lattices, tangled grid cells) and shows the running background jobs (JobStatusBar).
 //
-// This is the boundary where libcore's exceptions (aero::Error) become messages for the
-// user. The state lives in Document; the window wires it to the scenes and panels and
-// updates only what changed (shapeChanged -> re-sample those patches in place).
+// The window assembles the parts and keeps the 3D view in step with the document (shapeChanged
+// -> re-sample those patches in place). Its other concerns live in their own files: project files
+// (ProjectFiles), exports (Exports), the mesh preview (MeshPreviewer), the flow solve and its
+// plots (FlowWorkspace), background work (JobRunner). Quitting while a job runs asks first, then
+// stops and waits for it.
 #include <QMainWindow>
 #include <QString>
 #include <QVector>
 #include <array>
-#include <functional>
 #include <memory>
-#include <vector>
 
-class QAction;
 class QLabel;
-class QMenu;
-class QProgressBar;
-class QToolButton;
 
 namespace aero::ui {
 
+struct ActionSet;
+struct MenuRefs;
 class Autosaver;
-class BackgroundJob;
 class DesignVariablePanel;
 class Document;
+class Exports;
+class FlowScene;
+class FlowWorkspace;
+class JobRunner;
+class JobStatusBar;
 class LatticeEditor;
 class LatticeScene;
 class MeshPanel;
@@ -36,6 +38,7 @@ class MeshScene;
 class ModelTree;
 class OverlayScene;
 class PatchScene;
+class ProjectFiles;
 class PropertyPanel;
 class Selection;
 class VtkViewport;
@@ -50,6 +53,8 @@ class MainWindow : public QMainWindow {
         int autosaveIntervalMs = 30000;
         bool recentFiles = true;    // remember opened files (QSettings)
     };
+    /// The options of an interactive session (autosave interval from the settings).
+    static Options defaultOptions();
 
     explicit MainWindow(QWidget* parent = nullptr);
     explicit MainWindow(const Options& options, QWidget* parent = nullptr);
@@ -79,6 +84,7 @@ class MainWindow : public QMainWindow {
     /// Looks along `direction` with `up` at the whole model.
     void setView(const std::array<double, 3>& direction, const std::array<double, 3>& up);
 
+    const ActionSet& actions() const { return *actions_; }
     VtkViewport* viewport() const { return viewport_; }
     PatchScene& scene() const { return *scene_; }
     LatticeScene& latticeScene() const { return *lattices_; }
@@ -90,10 +96,13 @@ class MainWindow : public QMainWindow {
     PropertyPanel& properties() const { return *properties_; }
     ModelTree& modelTree() const { return *tree_; }
     Autosaver* autosaver() const { return autosaver_; }
-    BackgroundJob& jobs() const { return *jobs_; }
+    JobRunner& jobs() const { return *jobs_; }
     MeshScene& meshScene() const { return *meshScene_; }
     MeshPanel& meshPanel() const { return *meshPanel_; }
     MeshPreviewer& meshPreviewer() const { return *previewer_; }
+    FlowScene& flowScene() const { return *flowScene_; }
+    FlowWorkspace& flow() const { return *flow_; }
+    ProjectFiles& files() const { return *files_; }
     /// "20 patches, 720 control points", or "No geometry".
     QString summary() const;
     /// The problem text shown in the status bar (empty when all is well).
@@ -106,8 +115,8 @@ class MainWindow : public QMainWindow {
 
   private:
     void createDocks();
-    void createMenus();
     void createStatusBar();
+    void connectActions();
     void connectDocument();
     void updateSummary();
     void updateTitle();
@@ -117,61 +126,45 @@ class MainWindow : public QMainWindow {
     void updateActions();
     void onReset();
     void onShapeChanged(const QVector<int>& patches);
-    /// Asks to save unsaved changes; false if the user cancelled.
-    bool maybeSave();
-    bool save();
-    bool saveAs();
-    void chooseAndOpen();
-    void chooseAndSaveScreenshot();
-    void exportGeometry();
-    void exportVtk();
-    void exportGrid();
-    void addLattice();
     /// Mesh > Preview: starts the job (messages instead of dialogs when it cannot).
     void startMeshPreview();
     void onMeshPreviewStateChanged();
+    void startFlowSolve(bool continueRun);
     /// Grid parts as the model tree's boxes say; the geometry's surfaces make way for the
-    /// grid's wall while it is shown (and come back after).
-    void applyGridVisibility();
-    void addRecentFile(const QString& path);
-    void fillRecentMenu();
-    /// Runs `work` (which may throw aero::Error) and reports failures in *error.
-    bool guarded(const std::function<void()>& work, QString* error);
+    /// grid's or the flow solution's wall while one is shown (and come back after).
+    void applyResultVisibility();
+    void selectAllLatticePoints();
+    void addLattice();
+    /// Asks before quitting while jobs run; then stops them and waits. False: keep running.
+    bool confirmQuitWhileWorking();
 
     Options options_;
+    std::unique_ptr<ActionSet> actions_;
+    std::unique_ptr<MenuRefs> menus_;
     Document* document_ = nullptr;
     Selection* selection_ = nullptr;
+    JobRunner* jobs_ = nullptr;
     VtkViewport* viewport_ = nullptr;  // central widget, owned by Qt
     std::unique_ptr<PatchScene> scene_;
     std::unique_ptr<LatticeScene> lattices_;
     std::unique_ptr<OverlayScene> overlay_;
     std::unique_ptr<MeshScene> meshScene_;
+    std::unique_ptr<FlowScene> flowScene_;
     MeshPanel* meshPanel_ = nullptr;
     MeshPreviewer* previewer_ = nullptr;
-    bool geometryHiddenForGrid_ = false;  // we unchecked Geometry to show the grid's wall
+    FlowWorkspace* flow_ = nullptr;
+    ProjectFiles* files_ = nullptr;
+    Exports* exports_ = nullptr;
+    bool geometryHiddenForResults_ = false;  // we unchecked Geometry to show a result's wall
     bool settingGeometry_ = false;
     LatticeEditor* editor_ = nullptr;
     ModelTree* tree_ = nullptr;
     PropertyPanel* properties_ = nullptr;
     DesignVariablePanel* variables_ = nullptr;
     Autosaver* autosaver_ = nullptr;
-    BackgroundJob* jobs_ = nullptr;
+    JobStatusBar* jobStatus_ = nullptr;
     QLabel* summaryLabel_ = nullptr;
     QLabel* problemLabel_ = nullptr;
-    QProgressBar* jobProgress_ = nullptr;
-    QToolButton* jobCancel_ = nullptr;
-    QMenu* recentMenu_ = nullptr;
-    QAction* saveAction_ = nullptr;
-    QAction* latticesAction_ = nullptr;
-    QAction* sensitivityAction_ = nullptr;
-    QAction* removeLatticeAction_ = nullptr;
-    QAction* resetPointsAction_ = nullptr;
-    QAction* meshPreviewAction_ = nullptr;
-    QAction* meshCancelAction_ = nullptr;
-    QAction* meshClearAction_ = nullptr;
-    QAction* exportGridAction_ = nullptr;
-    std::vector<QAction*> needsGeometry_;
-    QString lastDirectory_;
 };
 
 }  // namespace aero::ui

@@ -5,7 +5,7 @@
 //   lattices -> deformed wall -> extrudeToFarfield(baseline) -> moveControlGrid -> regenerateAll
 //   -> cellQuality, summarize.
 // The GUI thread fills a MeshPreviewInput from the document, runs runMeshPreview() through a
-// BackgroundJob and hands the result (shared, read-only from then on) to the scene and panel.
+// job of the JobRunner and hands the result (shared, read-only from then on) to the scene and panel.
 // Also here: the quality metrics by name and their colour scale, shared by the 3D view
 // (MeshScene) and the histogram (MeshPanel) so that both show the same colours.
 #include <array>

@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "BackgroundJob.h"
+#include "JobRunner.h"
 #include "Document.h"
 #include "MeshPanel.h"
 #include "MeshScene.h"
@@ -48,7 +48,7 @@ QString num(double v) {
 
 }  // namespace
 
-MeshPreviewer::MeshPreviewer(Document* document, BackgroundJob* jobs, VtkViewport* viewport,
+MeshPreviewer::MeshPreviewer(Document* document, JobRunner* jobs, VtkViewport* viewport,
                              MeshScene* scene, MeshPanel* panel, QObject* parent)
     : QObject(parent),
       document_(document),
@@ -62,10 +62,6 @@ MeshPreviewer::MeshPreviewer(Document* document, BackgroundJob* jobs, VtkViewpor
     flight_->setEndValue(1.0);
     flight_->setEasingCurve(QEasingCurve::InOutCubic);
 
-    connect(jobs_, &BackgroundJob::progress, this, [this](double, const QString& text) {
-        if (ownJob_ && !text.isEmpty()) panel_->setStatus(text);
-    });
-    connect(jobs_, &BackgroundJob::finished, this, &MeshPreviewer::onJobFinished);
     connect(document_, &Document::shapeChanged, this, &MeshPreviewer::onDocumentChanged);
     connect(document_, &Document::meshOptionsChanged, this, &MeshPreviewer::onDocumentChanged);
     connect(document_, &Document::reset, this, &MeshPreviewer::onReset);
@@ -78,10 +74,8 @@ bool MeshPreviewer::start(QString* error) {
         if (error) *error = tr("Open a geometry first.");
         return false;
     }
-    if (jobs_->running()) {
-        if (error)
-            *error =
-                tr("Wait for \u201c%1\u201d to finish (or cancel it) first.").arg(jobs_->title());
+    if (job_) {
+        if (error) *error = tr("A mesh preview is running already: wait for it (or cancel it) first.");
         return false;
     }
     // Copies for the worker: it never touches the document.
@@ -95,22 +89,23 @@ bool MeshPreviewer::start(QString* error) {
     pending_.reset();
     QPointer<MeshPreviewer> self(this);
     const quint64 generation = generation_;
-    ownJob_ = jobs_->start(
-        tr("Mesh preview"),
-        [input, slot](const JobContext& ctx) {
-            auto progress = [&ctx](double fraction, const std::string& text) {
-                ctx.progress(fraction, QString::fromStdString(text));
-            };
-            *slot = std::make_shared<MeshPreviewResult>(
-                runMeshPreview(*input, progress, ctx.cancelFlag()));
-        },
-        [self, slot, generation] {
-            if (self && generation == self->generation_) self->pending_ = *slot;
-        });
-    if (!ownJob_) {
-        if (error) *error = tr("Could not start the mesh preview.");
-        return false;
-    }
+    JobSpec<NoProgress> spec;
+    spec.title = tr("Mesh preview");
+    spec.kind = QStringLiteral("mesh-preview");
+    spec.work = [input, slot](const JobContext<NoProgress>& ctx) {
+        auto progress = [&ctx](double fraction, const std::string& text) {
+            ctx.status(fraction, QString::fromStdString(text));
+        };
+        *slot = std::make_shared<MeshPreviewResult>(runMeshPreview(*input, progress, ctx.cancelFlag()));
+    };
+    spec.done = [self, slot, generation] {
+        if (self && generation == self->generation_) self->pending_ = *slot;
+    };
+    job_ = jobs_->start(std::move(spec));
+    connect(job_, &Job::progressed, this, [this](double, const QString& text) {
+        if (!text.isEmpty()) panel_->setStatus(text);
+    });
+    connect(job_, &Job::finished, this, &MeshPreviewer::onJobFinished);
     panel_->setRunning(true);
     panel_->setStatus(tr("Starting the %1 grid...").arg(QString::fromStdString(input->caseFile.mesh.level)));
     setState(State::Running);
@@ -118,12 +113,15 @@ bool MeshPreviewer::start(QString* error) {
 }
 
 void MeshPreviewer::cancel() {
-    if (ownJob_) jobs_->cancel();
+    if (job_) job_->cancel();
 }
 
-void MeshPreviewer::onJobFinished(bool ok, bool cancelled, const QString& error) {
-    if (!ownJob_) return;
-    ownJob_ = false;
+void MeshPreviewer::onJobFinished() {
+    if (!job_) return;
+    const bool ok = job_->state() == Job::State::Finished;
+    const bool cancelled = job_->state() == Job::State::Cancelled;
+    const QString error = job_->error();
+    job_ = nullptr;
     panel_->setRunning(false);
     if (ok && pending_) {
         result_ = std::move(pending_);
@@ -236,7 +234,7 @@ void MeshPreviewer::onDocumentChanged() {
 
 void MeshPreviewer::onReset() {
     ++generation_;  // a job still running belongs to the previous document
-    if (ownJob_) jobs_->cancel();
+    if (job_) job_->cancel();
     clear();
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Mesh > Preview: runs the mesh pipeline (MeshPreview.h) as a BackgroundJob on a copy of the
+// Mesh > Preview: runs the mesh pipeline (MeshPreview.h) as a job of the JobRunner on a copy of the
 // document's state, then shows the result in the MeshScene and the MeshPanel; marks cells with
 // a non-positive Jacobian and says so; flies the camera to a worst cell on request; exports the
 // grid. The preview follows the document: when the shown geometry or the case's mesh options
@@ -10,6 +10,7 @@
 // copies (baseline, mesh options, the wall's control points) and returns a result that is
 // read-only from then on (shared by scene and panel).
 #include <QObject>
+#include <QPointer>
 #include <QString>
 #include <array>
 #include <memory>
@@ -21,7 +22,8 @@ class QVariantAnimation;
 
 namespace aero::ui {
 
-class BackgroundJob;
+class Job;
+class JobRunner;
 class Document;
 class MeshPanel;
 class MeshScene;
@@ -40,11 +42,11 @@ class MeshPreviewer : public QObject {
         Failed      // the last run threw (no preview); error() says why
     };
 
-    MeshPreviewer(Document* document, BackgroundJob* jobs, VtkViewport* viewport, MeshScene* scene,
+    MeshPreviewer(Document* document, JobRunner* jobs, VtkViewport* viewport, MeshScene* scene,
                   MeshPanel* panel, QObject* parent = nullptr);
 
     /// Starts a preview of the document as shown. False (with *error) without geometry or while
-    /// another job runs.
+    /// a preview runs (other jobs, e.g. a flow solve, may run meanwhile).
     bool start(QString* error = nullptr);
     /// Asks the running preview to stop (between elasticity increments).
     void cancel();
@@ -78,7 +80,7 @@ class MeshPreviewer : public QObject {
 
   private:
     void setState(State s);
-    void onJobFinished(bool ok, bool cancelled, const QString& error);
+    void onJobFinished();
     void onDocumentChanged();
     void onReset();
     /// Shows result_ in the scene (with its bad cells marked) and the panel.
@@ -88,7 +90,7 @@ class MeshPreviewer : public QObject {
     QString summaryText() const;
 
     Document* document_;
-    BackgroundJob* jobs_;
+    JobRunner* jobs_;
     VtkViewport* viewport_;
     MeshScene* scene_;
     MeshPanel* panel_;
@@ -99,7 +101,7 @@ class MeshPreviewer : public QObject {
     std::string resultOptions_;                   // optionsKey() the result was made with
     std::string runningOptions_;
     QString error_;
-    bool ownJob_ = false;
+    QPointer<Job> job_;  // the running preview
     quint64 generation_ = 0;  // increases when the document is replaced
     std::array<double, 3> flyFocal_{0, 0, 0};
 };

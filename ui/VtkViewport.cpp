@@ -16,6 +16,7 @@
 #include <vtkTextProperty.h>
 
 #include <QCursor>
+#include <QElapsedTimer>
 #include <QGuiApplication>
 #include <QKeyEvent>
 #include <QMouseEvent>
@@ -23,6 +24,7 @@
 #include <QScreen>
 #include <QWheelEvent>
 #include <algorithm>
+#include <ctime>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -108,6 +110,17 @@ const char* keySymName(int key) {
 
 }  // namespace
 
+namespace {
+
+// CPU time of the calling thread, ms.
+double threadCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+}  // namespace
+
 struct VtkViewport::Impl {
     VtkViewport* q;
     vtkNew<vtkGenericOpenGLRenderWindow> window;
@@ -120,6 +133,8 @@ struct VtkViewport::Impl {
     bool glReady = false;   // InitializeFromCurrentContext() ran in the current context
     bool painting = false;  // inside paintGL()
     int frames = 0;
+    double frameMs = 0, longestFrameMs = 0, totalFrameMs = 0;  // VTK's render time in paintGL
+    double totalFrameCpuMs = 0;  // ... and the GUI thread's CPU time in it
     int wheelAccumulator = 0;
 
     explicit Impl(VtkViewport* owner) : q(owner) {}
@@ -289,6 +304,14 @@ int VtkViewport::renderedFrames() const {
     return d_->frames;
 }
 
+VtkViewport::FrameTimes VtkViewport::frameTimes() const {
+    return {d_->frames, d_->frameMs, d_->longestFrameMs, d_->totalFrameMs, d_->totalFrameCpuMs};
+}
+
+void VtkViewport::resetLongestFrame() {
+    d_->longestFrameMs = 0;
+}
+
 void VtkViewport::requestRender() {
     update();
 }
@@ -402,12 +425,19 @@ void VtkViewport::paintGL() {
     if (!d_->glReady) return;
     // QOpenGLWidget has made the context current and bound its FBO; VTK renders into its own
     // framebuffers and blits into the bound one at the end of Frame().
+    QElapsedTimer clock;
+    clock.start();
+    const double cpu0 = threadCpuMs();
     d_->painting = true;
     d_->window->SetReadyForRendering(true);
     d_->window->Render();
     d_->window->SetReadyForRendering(false);
     d_->painting = false;
     ++d_->frames;
+    d_->frameMs = static_cast<double>(clock.nsecsElapsed()) * 1e-6;
+    d_->longestFrameMs = std::max(d_->longestFrameMs, d_->frameMs);
+    d_->totalFrameMs += d_->frameMs;
+    d_->totalFrameCpuMs += threadCpuMs() - cpu0;
 }
 
 void VtkViewport::mousePressEvent(QMouseEvent* e) {

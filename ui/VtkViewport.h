@@ -48,6 +48,17 @@ class VtkViewport : public QOpenGLWidget {
 
     /// Number of frames VTK has rendered so far (for tests and diagnostics).
     int renderedFrames() const;
+    /// How long VTK's rendering took inside paintGL (on the GUI thread): the last frame, the
+    /// longest since resetLongestFrame(), and all frames together, in milliseconds; and the GUI
+    /// thread's CPU time in them. With a software OpenGL (llvmpipe under Xvfb) this is most of a
+    /// frame's cost.
+    struct FrameTimes {
+        int frames = 0;
+        double lastMs = 0, longestMs = 0, totalMs = 0;
+        double totalCpuMs = 0;
+    };
+    FrameTimes frameTimes() const;
+    void resetLongestFrame();
 
     // --- Screen <-> world, for tools that pick and drag in the view (widget coordinates are
     // Qt's logical pixels, origin top-left, like QMouseEvent::position()).

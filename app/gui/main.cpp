@@ -3,11 +3,14 @@
 //   aeroform [FILE]                      open FILE (project .json, patch set .json, .igs,
 //                                        .iges), or the sample
 //   aeroform --sample                    open the half-sphere sample with the paper's FFD
-//   aeroform --screenshot OUT.png [FILE] open, render, save the viewport, exit
+//   aeroform --screenshot OUT.png [--solve] [--window] [--sections] [FILE]
+//                                        open, (solve the flow,) render, save the viewport (or
+//                                        the whole window), exit
 //   aeroform --batch FILE                headless run (no Qt application, no window)
 //
 // Exit codes: 0 success, 1 failure of the work (bad input, cannot write), 2 usage error.
 #include <QApplication>
+#include <QDockWidget>
 #include <QElapsedTimer>
 #include <QSurfaceFormat>
 #include <QWindow>
@@ -15,6 +18,8 @@
 #include <cstring>
 #include <string>
 
+#include "FlowRunner.h"
+#include "FlowWorkspace.h"
 #include "MainWindow.h"
 #include "VtkViewport.h"
 #include "cli/Commands.h"
@@ -24,7 +29,7 @@ namespace {
 constexpr const char* kUsage =
     "Usage: aeroform [FILE]\n"
     "       aeroform --sample\n"
-    "       aeroform --screenshot OUT.png [FILE | --sample]\n"
+    "       aeroform --screenshot OUT.png [--solve] [--window] [--sections] [FILE | --sample]\n"
     "       aeroform --batch FILE\n"
     "\n"
     "Aeroform: NURBS / free-form deformation aerodynamic shape design.\n"
@@ -35,6 +40,11 @@ constexpr const char* kUsage =
     "                     6x6x2 FFD lattice and 89 design variables\n"
     "  --screenshot OUT   open FILE (or the sample), render it, save the viewport as OUT\n"
     "                     (PNG or JPEG by suffix) and exit; needs a display (e.g. xvfb-run)\n"
+    "  --solve            with --screenshot: solve the case's flow first (Flow > Solve) and\n"
+    "                     show the solution; exit 1 if it does not converge\n"
+    "  --window           with --screenshot: save the whole window, panels and plots included\n"
+    "  --sections         with --solve: show the spanwise sections below the view instead of\n"
+    "                     the residual history\n"
     "  --batch FILE       run FILE headless, without any window (see aeroform-cli)\n"
     "  -h, --help         show this help\n"
     "\n"
@@ -49,6 +59,9 @@ struct GuiOptions {
     QString file;
     QString screenshot;
     bool sample = false;
+    bool solve = false;
+    bool window = false;
+    bool sections = false;
 };
 
 // Parses the arguments left after QApplication removed its own. Returns -1 to go on, or an
@@ -58,6 +71,12 @@ int parseGuiOptions(const QStringList& args, GuiOptions& o) {
         const QString& a = args[i];
         if (a == QLatin1String("--sample")) {
             o.sample = true;
+        } else if (a == QLatin1String("--solve")) {
+            o.solve = true;
+        } else if (a == QLatin1String("--window")) {
+            o.window = true;
+        } else if (a == QLatin1String("--sections")) {
+            o.sections = true;
         } else if (a == QLatin1String("--screenshot")) {
             if (i + 1 >= args.size()) return usageError("--screenshot needs an output file");
             o.screenshot = args[++i];
@@ -70,6 +89,8 @@ int parseGuiOptions(const QStringList& args, GuiOptions& o) {
         }
     }
     if (o.sample && !o.file.isEmpty()) return usageError("give either FILE or --sample");
+    if ((o.solve || o.window) && o.screenshot.isEmpty()) return usageError("--solve and --window go with --screenshot");
+    if (o.sections && !o.solve) return usageError("--sections goes with --solve");
     return -1;
 }
 
@@ -91,12 +112,35 @@ int runScreenshot(QApplication& app, aero::ui::MainWindow& window, const GuiOpti
         return 1;
     }
     waitUntil([&] { return window.viewport()->renderedFrames() > 0; });
-    if (!window.saveScreenshot(o.screenshot, &error)) {
+    int code = 0;
+    if (o.solve) {
+        aero::ui::FlowRunner& runner = window.flow().runner();
+        window.flow().solve();
+        while (runner.running()) app.processEvents(QEventLoop::AllEvents, 50);
+        std::fprintf(stderr, "aeroform: %s\n", qPrintable(runner.stateText()));
+        if (runner.state() != aero::ui::FlowRunner::State::Converged) code = 1;
+        if (o.sections) {
+            if (auto* dock = window.findChild<QDockWidget*>(QStringLiteral("sectionsDock"))) {
+                dock->show();
+                dock->raise();
+            }
+        }
+        const int frames = window.viewport()->renderedFrames();
+        timer.restart();
+        waitUntil([&] { return window.viewport()->renderedFrames() > frames; });
+    }
+    if (o.window) {
+        app.processEvents();
+        if (!window.grab().save(o.screenshot)) {
+            std::fprintf(stderr, "aeroform: cannot write %s\n", qPrintable(o.screenshot));
+            return 1;
+        }
+    } else if (!window.saveScreenshot(o.screenshot, &error)) {
         std::fprintf(stderr, "aeroform: %s\n", qPrintable(error));
         return 1;
     }
     std::fprintf(stderr, "aeroform: wrote %s\n", qPrintable(o.screenshot));
-    return 0;
+    return code;
 }
 
 }  // namespace

@@ -177,7 +177,7 @@ const std::vector<mesh::StructuredGrid>& CaseEvaluator::baselineGrids() {
     return mesh_->grids;
 }
 
-void CaseEvaluator::evaluateShape(Evaluation& e) const {
+void CaseEvaluator::evaluateShape(Evaluation& e, const EvaluationRequest& request) const {
     const auto t = std::chrono::steady_clock::now();
     if (!model_) {
         e.shape = baseline_;
@@ -189,7 +189,13 @@ void CaseEvaluator::evaluateShape(Evaluation& e) const {
         throw Error("evaluate: " + std::to_string(e.values.size()) + " design values for " +
                     std::to_string(model_->design().size()) + " variables");
     }
-    e.lattices = io::movedLattices(case_, *model_, e.values);
+    if (request.displacements) {
+        io::CaseFile c = case_;  // only the displacements differ
+        c.displacements = *request.displacements;
+        e.lattices = io::movedLattices(c, *model_, e.values);
+    } else {
+        e.lattices = io::movedLattices(case_, *model_, e.values);
+    }
     for (std::size_t l = 0; l < e.lattices.size(); ++l) {
         const ffd::InjectivityReport r = ffd::checkInjectivity(e.lattices[l]);
         e.injectivity.push_back(r);
@@ -202,7 +208,7 @@ void CaseEvaluator::evaluateShape(Evaluation& e) const {
                                r.minPoint[1], r.minPoint[2]);
         }
     }
-    if (e.status == EvaluationStatus::Ok) {
+    if (e.status == EvaluationStatus::Ok || request.keepInvalidShape) {
         e.uniqueSurface = model_->uniqueWith(e.lattices);
         e.shape = model_->deformWith(e.lattices);
     }
@@ -442,7 +448,7 @@ Evaluation CaseEvaluator::evaluate(const std::vector<double>& v, const Evaluatio
                                    const ProgressFn& progress, const std::atomic<bool>* cancel) {
     Evaluation e;
     e.values = v;
-    evaluateShape(e);
+    evaluateShape(e, request);
     if (!e.ok()) return e;
     const bool wantFlow = request.flow && case_.flow.present;
     if (!(request.mesh || wantFlow)) return e;

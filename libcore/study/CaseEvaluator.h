@@ -78,6 +78,12 @@ struct EvaluationRequest {
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
     std::optional<double> alphaDeg;  // the angle of attack (unset: the case's flow.alpha)
     int worstCells = 10;     // how many of the worst cells the mesh quality summary locates
+    // For an editor showing the shape as it is edited (the GUI document):
+    bool keepInvalidShape = false;  // fill shape and uniqueSurface also for a non-injective
+                                    // lattice (the status still says InvalidShape; the mesh and
+                                    // flow stages do not run)
+    std::optional<std::vector<io::DisplacementCase>> displacements;  // lattice point
+                                    // displacements instead of the case's (e.g. a drag's preview)
 };
 
 struct MeshResult {
@@ -178,7 +184,7 @@ public:
 
 private:
     struct Baseline;
-    void evaluateShape(Evaluation& e) const;
+    void evaluateShape(Evaluation& e, const EvaluationRequest& request) const;
     void evaluateMesh(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
                       const std::atomic<bool>* cancel);
     void evaluateFlow(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,

@@ -65,6 +65,44 @@ TEST(CaseEvaluator, ANonInjectiveLatticeIsAStatusNamingTheLattice) {
     EXPECT_FALSE(e.flow);
 }
 
+TEST(CaseEvaluator, AnEditorKeepsANonInjectiveShapeAndPreviewsDisplacements) {
+    // The GUI document's mode: the shape stage only, a folded lattice's shape kept for display,
+    // lattice point displacements given with the request (a drag's preview).
+    study::CaseEvaluator& ev = evaluator();
+    study::EvaluationRequest display;
+    display.mesh = false;
+    display.flow = false;
+    display.keepInvalidShape = true;
+    std::vector<double> v = ev.caseValues();
+    const int i = ev.model()->design().find("body.S5.ty");
+    ASSERT_GE(i, 0);
+    v[i] = -3.0;
+    const study::Evaluation folded = ev.evaluate(v, display);
+    EXPECT_EQ(folded.status, study::EvaluationStatus::InvalidShape);
+    EXPECT_NE(folded.message.find("lattice 'body' is not injective"), std::string::npos);
+    ASSERT_EQ(folded.shape.size(), ev.baseline().size());
+    EXPECT_EQ(folded.uniqueSurface, ev.model()->uniqueWith(folded.lattices));
+    EXPECT_FALSE(folded.injectivity[0].injective);
+    EXPECT_FALSE(folded.mesh);
+    // Without the mode the shape is not filled in.
+    study::EvaluationRequest strict = display;
+    strict.keepInvalidShape = false;
+    EXPECT_TRUE(ev.evaluate(v, strict).uniqueSurface.empty());
+
+    io::CaseFile moved = ev.caseFile();
+    moved.displacements = {{0, {2, 3, 1}, {0.0, 0.0, 0.2}}, {0, {3, 3, 1}, {0.1, 0.0, 0.0}}};
+    study::EvaluationRequest preview = display;
+    preview.displacements = moved.displacements;
+    const study::Evaluation p = ev.evaluate(ev.caseValues(), preview);
+    EXPECT_TRUE(p.ok()) << p.message;
+    const std::vector<ffd::Lattice> expected = io::movedLattices(moved, *ev.model(), ev.caseValues());
+    EXPECT_EQ(p.lattices[0].points, expected[0].points);  // bit for bit: the same function
+    EXPECT_EQ(p.shape.patches[0].points.size(), ev.baseline().patches[0].points.size());
+    const study::Evaluation plain = ev.evaluate(ev.caseValues(), display);
+    EXPECT_NE(p.lattices[0].points, plain.lattices[0].points);
+    EXPECT_NE(p.uniqueSurface, plain.uniqueSurface);
+}
+
 TEST(CaseEvaluator, ProlongationIsExactForFieldsLinearInTheParameters) {
     // The same analytic grid at half and full resolution: a state linear in the grid parameters
     // of every block is reproduced exactly at the fine nodes.

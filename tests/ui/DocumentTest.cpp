@@ -12,6 +12,7 @@
 
 #include "Autosave.h"
 #include "Document.h"
+#include "study/CaseEvaluator.h"
 #include "cad/Iges.h"
 #include "common/Error.h"
 #include "geometry/HalfSphere.h"
@@ -205,9 +206,22 @@ void DocumentTest::nonInjectiveLatticeIsReported() {
     const int a = L.index(2, 3, 1);
     const double height = L.points[3 * static_cast<std::size_t>(a) + 2] - L.points[3 * static_cast<std::size_t>(L.index(2, 3, 0)) + 2];
     QSignalSpy diagnostics(&d, &Document::diagnosticsChanged);
+    const aero::geometry::PatchSet before = d.shape();
     d.moveLatticePoints(0, {a}, {0, 0, -5.0 * height});
     QVERIFY(diagnostics.count() >= 1);
     QVERIFY(!d.injectivity()[0].injective);
+    // The folded shape is still shown (the evaluator's editor mode keeps it), and it is the one
+    // pipeline's: the same shape study::CaseEvaluator gives for the document's case.
+    QVERIFY(!samePoints(d.shape(), before));
+    QVERIFY(samePoints(d.shape(), d.model()->deformWith(d.lattices())));
+    QCOMPARE(d.uniquePoints(), d.model()->uniqueWith(d.lattices()));
+    aero::study::CaseEvaluator ev(d.caseFile(), d.baseline());
+    aero::study::EvaluationRequest shapeOnly;
+    shapeOnly.mesh = shapeOnly.flow = false;
+    const aero::study::Evaluation strict = ev.evaluate(d.values(), shapeOnly);
+    QCOMPARE(strict.status, aero::study::EvaluationStatus::InvalidShape);  // what the mesh and flow would say
+    shapeOnly.keepInvalidShape = true;
+    QVERIFY(samePoints(ev.evaluate(d.values(), shapeOnly).shape, d.shape()));
     const QStringList problems = d.problems();
     QCOMPARE(problems.size(), 1);
     QVERIFY2(problems[0].contains(QStringLiteral("not injective")), qPrintable(problems[0]));

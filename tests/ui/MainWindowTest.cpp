@@ -7,6 +7,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QDir>
+#include <QFile>
 #include <QFileInfo>
 #include <QImage>
 #include <QLabel>
@@ -31,7 +32,9 @@
 #include <cmath>
 #include <memory>
 
+#include "ActionSet.h"
 #include "Document.h"
+#include "Resources.h"
 #include "LatticeScene.h"
 #include "LatticeDialog.h"
 #include "MainWindow.h"
@@ -82,6 +85,7 @@ class MainWindowTest : public QObject {
     void droppedFileIsOpened();
     void closeAsksAboutUnsavedChanges();
     void meshActionsBeforeAPreview();
+    void resourcesShipIconsSettingsAndADesktopEntry();
     void latticeDialogDescribesTheLattice();
 
   private:
@@ -360,6 +364,33 @@ void MainWindowTest::closeAsksAboutUnsavedChanges() {
     QVERIFY(window_->isVisible());
     doc.undoStack()->undo();
     QVERIFY(!window_->isWindowModified());
+}
+
+void MainWindowTest::resourcesShipIconsSettingsAndADesktopEntry() {
+    // The compiled-in resource file (resources/aeroform.qrc).
+    for (const char* icon : {"aeroform", "open", "save", "flow-solve", "flow-stop", "mesh-preview", "lattices"})
+        QVERIFY2(QFile::exists(QStringLiteral(":/icons/%1.svg").arg(QLatin1String(icon))), icon);
+    QVERIFY(QFile::exists(QStringLiteral(":/settings/defaults.ini")));
+    // Default settings where the user has none (the tests' settings are their own).
+    QCOMPARE(aero::ui::setting(QStringLiteral("flow/field")).toString(), QStringLiteral("entropy"));
+    QCOMPARE(aero::ui::setting(QStringLiteral("sections/spacing")).toDouble(), 0.5);
+    QCOMPARE(aero::ui::setting(QStringLiteral("autosave/intervalSeconds")).toInt(), 30);
+    QVERIFY(aero::ui::setting(QStringLiteral("jobs/niceness")).toInt() >= 0);
+    QVERIFY(!aero::ui::setting(QStringLiteral("no/such/key")).isValid());
+    // The actions carry icons (SVG through Qt's icon engine, or the style's when it is missing).
+    const aero::ui::ActionSet& a = window_->actions();
+    for (QAction* action : {a.open, a.save, a.flowSolve, a.flowStop, a.meshPreview})
+        QVERIFY2(!action->icon().pixmap(16, 16).isNull(), qPrintable(action->objectName()));
+    QVERIFY(!window_->windowIcon().isNull() || aero::ui::appIcon(QStringLiteral("aeroform")).isNull());
+    if (aero::ui::appIcon(QStringLiteral("flow-solve")).pixmap(16, 16).isNull())
+        qWarning("no SVG icon engine (Debian: libqt6svg6): the style's icons are used");
+    // The desktop entry runs the application with its icon.
+    QFile desktop(QStringLiteral(AEROFORM_SAMPLES_DIR "/../resources/aeroform.desktop"));
+    QVERIFY(desktop.open(QIODevice::ReadOnly | QIODevice::Text));
+    const QString entry = QString::fromUtf8(desktop.readAll());
+    QVERIFY(entry.startsWith(QStringLiteral("[Desktop Entry]")));
+    for (const char* line : {"Type=Application", "Exec=aeroform %f", "Icon=aeroform", "Name=Aeroform"})
+        QVERIFY2(entry.contains(QLatin1String(line)), line);
 }
 
 void MainWindowTest::meshActionsBeforeAPreview() {

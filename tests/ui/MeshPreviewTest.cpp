@@ -28,7 +28,7 @@
 #include <memory>
 #include <numeric>
 
-#include "BackgroundJob.h"
+#include "JobRunner.h"
 #include "Document.h"
 #include "MainWindow.h"
 #include "MeshPanel.h"
@@ -106,7 +106,7 @@ class MeshPreviewTest : public QObject {
         if (previewer().state() != State::Running) return previewer().state();
         (void)QTest::qWaitFor([this] { return previewer().state() != State::Running; },
                               kJobTimeoutMs);
-        (void)QTest::qWaitFor([this] { return !window_->jobs().running(); }, 5000);
+        (void)QTest::qWaitFor([this] { return !window_->jobs().busy(); }, 5000);
         return previewer().state();
     }
 
@@ -142,7 +142,7 @@ void MeshPreviewTest::previewOfThePapersLatticeHasPositiveJacobians() {
     QCOMPARE(previewer().state(), State::None);
     QCOMPARE(window_->modelTree().gridPartItem(aero::ui::ModelTree::WallPart)->isDisabled(), true);
 
-    QSignalSpy progress(&window_->jobs(), &aero::ui::BackgroundJob::progress);
+    QSignalSpy progress(&window_->jobs(), &aero::ui::JobRunner::jobProgressed);
     const State s = runPreview();
     QVERIFY2(s == State::Ready, stateName(s));
     QVERIFY(progress.count() > 0);
@@ -431,7 +431,7 @@ void MeshPreviewTest::cancelStopsThePreviewAndKeepsTheWindowUsable() {
     QTest::mouseClick(panel().previewButton(), Qt::LeftButton);
     QTRY_COMPARE_WITH_TIMEOUT(previewer().state(), State::Cancelled, 30000);
     qInfo("cancelled %lld ms after the click", static_cast<long long>(latency.elapsed()));
-    QVERIFY(!window_->jobs().running());
+    QVERIFY(!window_->jobs().busy());
     QVERIFY(previewer().result() == nullptr);
     QVERIFY(window_->meshScene().empty());
     QVERIFY(panel().statusText().contains(QStringLiteral("Cancelled")));

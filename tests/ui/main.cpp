@@ -6,14 +6,19 @@
 #include <QSurfaceFormat>
 
 #include "VtkViewport.h"
+#include "cli/Commands.h"
 
 int runDocumentTest(int argc, char** argv);
-int runBackgroundJobTest(int argc, char** argv);
+int runJobRunnerTest(int argc, char** argv);
 int runMainWindowTest(int argc, char** argv, bool canRender);
 int runLatticeEditorTest(int argc, char** argv, bool canRender);
 int runMeshPreviewTest(int argc, char** argv, bool canRender);
+int runFlowSolveTest(int argc, char** argv, bool canRender);
 
 int main(int argc, char** argv) {
+    // Flow solves run in the background here too: OpenMP must wait passively (as the
+    // application does), or its spinning threads starve the GUI thread.
+    aero::app::ensurePassiveOpenMpWaiting(argv);
     // Without an X display QApplication could not even start on xcb; start it offscreen then
     // (no OpenGL widget is created) and let the GL tests skip with a clear message.
     const QByteArray platform = qgetenv("QT_QPA_PLATFORM");
@@ -26,11 +31,15 @@ int main(int argc, char** argv) {
     QApplication app(argc, argv);
     QApplication::setOrganizationName(QStringLiteral("AeroformTest"));
     QApplication::setApplicationName(QStringLiteral("test_ui"));
+    // AEROFORM_UI_TESTS=FlowSolveTest,JobRunnerTest runs only those classes (while developing).
+    const QStringList only = qEnvironmentVariable("AEROFORM_UI_TESTS").split(QLatin1Char(','), Qt::SkipEmptyParts);
+    auto wanted = [&only](const char* name) { return only.isEmpty() || only.contains(QLatin1String(name)); };
     int failed = 0;
-    failed += runDocumentTest(argc, argv);
-    failed += runBackgroundJobTest(argc, argv);
-    failed += runMainWindowTest(argc, argv, canRender);
-    failed += runLatticeEditorTest(argc, argv, canRender);
-    failed += runMeshPreviewTest(argc, argv, canRender);
+    if (wanted("DocumentTest")) failed += runDocumentTest(argc, argv);
+    if (wanted("JobRunnerTest")) failed += runJobRunnerTest(argc, argv);
+    if (wanted("MainWindowTest")) failed += runMainWindowTest(argc, argv, canRender);
+    if (wanted("LatticeEditorTest")) failed += runLatticeEditorTest(argc, argv, canRender);
+    if (wanted("MeshPreviewTest")) failed += runMeshPreviewTest(argc, argv, canRender);
+    if (wanted("FlowSolveTest")) failed += runFlowSolveTest(argc, argv, canRender);
     return failed == 0 ? 0 : 1;
 }

@@ -1,0 +1,72 @@
+#pragma once
+// Every command of the main window as a typed QAction, made in one place with its text,
+// shortcut, icon (resources/icons), tooltip and object name (for settings and tests): code
+// refers to `actions.meshPreview`, never looks an action up by its name. The actions are not
+// connected here (MainWindow connects them to what they do) and not placed (Menus.h puts them
+// into the menu bar and the tool bar). GUI thread only.
+#include <QIcon>
+#include <QString>
+
+class QAction;
+class QObject;
+class QUndoStack;
+
+namespace aero::ui {
+
+struct ActionSet {
+    // File.
+    QAction* open = nullptr;
+    QAction* openSample = nullptr;          // the half-sphere with the paper's FFD lattice
+    QAction* openSampleGeometry = nullptr;  // the half-sphere geometry alone
+    QAction* save = nullptr;
+    QAction* saveAs = nullptr;
+    QAction* exportGeometry = nullptr;
+    QAction* exportVtk = nullptr;
+    QAction* exportGrid = nullptr;
+    QAction* exportFlow = nullptr;
+    QAction* screenshot = nullptr;
+    QAction* quit = nullptr;
+    // Edit (undo/redo: the undo stack's, whose text names the command; the tool bar's pair
+    // keeps short labels).
+    QAction* undo = nullptr;
+    QAction* redo = nullptr;
+    QAction* undoTool = nullptr;
+    QAction* redoTool = nullptr;
+    QAction* selectAllPoints = nullptr;
+    QAction* resetPoints = nullptr;
+    QAction* resetVariables = nullptr;
+    // View (checkable ones first).
+    QAction* surfaces = nullptr;
+    QAction* patchEdges = nullptr;
+    QAction* controlNets = nullptr;
+    QAction* lattices = nullptr;
+    QAction* sensitivity = nullptr;
+    QAction* orientationAxes = nullptr;
+    QAction* resetCamera = nullptr;
+    QAction* viewFront = nullptr;
+    QAction* viewSide = nullptr;
+    QAction* viewTop = nullptr;
+    // FFD.
+    QAction* addLattice = nullptr;
+    QAction* removeLattice = nullptr;
+    // Mesh.
+    QAction* meshPreview = nullptr;
+    QAction* meshCancel = nullptr;
+    QAction* meshClear = nullptr;
+    // Flow.
+    QAction* flowSolve = nullptr;
+    QAction* flowStop = nullptr;
+    QAction* flowContinue = nullptr;
+    // Help.
+    QAction* mouseAndKeys = nullptr;
+    QAction* about = nullptr;
+
+    /// Creates every action, owned by `owner`; undo/redo come from `stack`.
+    ActionSet(QObject* owner, QUndoStack* stack);
+};
+
+/// An icon of resources/icons (e.g. "flow-solve"); when SVG icons cannot be drawn (no Qt SVG
+/// icon engine installed) the style's `fallback` icon.
+QIcon appIcon(const QString& name, int fallback = -1);
+
+}  // namespace aero::ui

@@ -1,0 +1,36 @@
+#include "Help.h"
+
+#include <QApplication>
+#include <QMessageBox>
+
+namespace aero::ui {
+
+void showMouseAndKeys(QWidget* parent) {
+    QMessageBox::information(
+        parent, QObject::tr("Mouse and Keys"),
+        QObject::tr(
+            "<p><b>View</b>: left drag rotates, middle drag (or Shift+left) pans, the wheel zooms; Ctrl+R resets the "
+            "camera, Ctrl+1/2/3 look from the front, side and top.</p>"
+            "<p><b>Lattice points</b>: click to select, Ctrl+click to add or remove, drag to move in the view plane, "
+            "Shift+drag to move along X, Y or Z, Esc cancels a drag; Delete resets the selected points. Exact "
+            "coordinates go in the Properties panel.</p>"
+            "<p><b>Design variables</b>: sliders and spin boxes in the Design Variables panel; a slider drag is one "
+            "undo step.</p>"
+            "<p><b>Mesh preview</b>: Ctrl+M generates the grid (level and increments in the Mesh Quality panel); the "
+            "model tree's Grid blocks toggle the control grid, wall, symmetry plane and slice; click a worst cell to "
+            "fly the camera to it.</p>"
+            "<p><b>Flow</b>: F5 solves the case's flow in the background (Mach, angle of attack, grid and "
+            "dissipation in the Flow panel), Shift+F5 stops it (the state reached is kept; Continue resumes it). The "
+            "Residuals panel plots every iteration; the Flow panel chooses the field (entropy, Cp, Mach, pressure), "
+            "its range, contour lines and a slice; the Sections panel cuts the wall at spanwise stations. Right-click "
+            "a plot to export it (PNG, SVG) or its data (CSV).</p>"));
+}
+
+void showAbout(QWidget* parent) {
+    QMessageBox::about(parent, QObject::tr("About Aeroform"),
+                       QObject::tr("<p><b>Aeroform</b> %1</p><p>Aerodynamic shape design with the two-level free-form "
+                                   "deformation of Gagnon &amp; Zingg.</p>")
+                           .arg(QApplication::applicationVersion()));
+}
+
+}  // namespace aero::ui
