@@ -55,14 +55,16 @@ void describeRead(const cad::ReadReport& report, GeometryInfo& info) {
     auto& j = info.json;
     std::string& t = info.text;
     // IGES entities by their directory entry (the DE pointer other entities use), STEP faces by #id.
-    const std::string entityWord = report.format == "IGES" ? "DE" : (report.format == "STEP" ? "#" : "patches");
+    const bool step = report.format == "STEP";
+    const std::string entityWord = report.format == "IGES" ? "DE " : (step ? "" : "patches ");
+    const auto list = [&](const std::vector<int>& e) { return entityWord + cad::listEntities(e, 8, step ? "#" : ""); };
     nlohmann::ordered_json read = nlohmann::ordered_json::array(), ignored = nlohmann::ordered_json::array();
     std::string readText, ignoredText;
     for (const cad::ReportRow& r : cad::summarize(report)) {
         const std::string outcome = cad::outcomeText(r.surface, r.trim);
         if (r.surface == cad::SurfaceOutcome::Ignored) {
             ignoredText += (ignoredText.empty() ? "ignored          " : "                 ") + rowName(r.type, r.kind) + ": " +
-                           std::to_string(r.entities.size()) + " (" + entityWord + " " + cad::listEntities(r.entities) + ")" +
+                           std::to_string(r.entities.size()) + " (" + list(r.entities) + ")" +
                            (r.reason.empty() ? std::string() : ": " + r.reason) + "\n";
             continue;
         }
@@ -77,7 +79,7 @@ void describeRead(const cad::ReadReport& report, GeometryInfo& info) {
         if (!r.reason.empty()) row["note"] = r.reason;
         read.push_back(std::move(row));
         readText += (readText.empty() ? "read             " : "                 ") + rowName(r.type, r.kind) + ": " +
-                    std::to_string(r.entities.size()) + " " + outcome + " (" + entityWord + " " + cad::listEntities(r.entities) + ")" +
+                    std::to_string(r.entities.size()) + " " + outcome + " (" + list(r.entities) + ")" +
                     (r.reason.empty() ? std::string() : ": " + r.reason) + "\n";
     }
     nlohmann::ordered_json items = nlohmann::ordered_json::array();

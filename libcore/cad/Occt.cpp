@@ -44,6 +44,8 @@
 #include <StepData_Protocol.hxx>
 #include <StepData_StepModel.hxx>
 #include <StepData_StepWriter.hxx>
+#include <StepShape_Face.hxx>
+#include <TransferBRep.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColStd_Array2OfReal.hxx>
@@ -69,6 +71,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <set>
 
@@ -307,6 +310,17 @@ double edgeDeviation(const TopoDS_Edge& edge, const Handle(Geom2d_Curve)& pcurve
     return worst;
 }
 
+/// Whether a location moves nothing: every entry of its 3 x 4 matrix exactly that of the identity
+/// (STEP faces carry placements that compose to the identity).
+bool identity(const TopLoc_Location& loc) {
+    if (loc.IsIdentity()) return true;
+    const gp_Trsf t = loc.Transformation();
+    for (int r = 1; r <= 3; ++r)
+        for (int c = 1; c <= 4; ++c)
+            if (t.Value(r, c) != (r == c ? 1.0 : 0.0)) return false;
+    return true;
+}
+
 /// The edge's model-space curve projected onto the (final) surface to 1e-10 of the patch's size:
 /// exact where the projection is analytic, else an approximation tighter than OpenCASCADE's
 /// reader makes. Null if the projection fails or the edge is a seam or degenerate.
@@ -347,7 +361,7 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
         bspline = Handle(Geom_BSplineSurface)::DownCast(s);
         if (bspline.IsNull()) throw Standard_Failure("could not be converted to a B-spline surface");
         done.push_back(out.surfaceType + " converted to an exact NURBS surface");
-    } else if (!loc.IsIdentity()) {
+    } else if (!identity(loc)) {
         bspline = Handle(Geom_BSplineSurface)::DownCast(BRep_Tool::Surface(face));
         done.push_back("moved by its transformation");
     }
@@ -523,8 +537,16 @@ StepFile readStep(const std::string& path) {
         reader.TransferRoots();
         const TopoDS_Shape shape = reader.OneShape();
         if (shape.IsNull()) throw InputError("STEP file " + quoted(path) + " has no shape OpenCASCADE can read");
-        const Handle(XSControl_TransferReader) tr = reader.WS()->TransferReader();
-        const Handle(Interface_InterfaceModel) model = reader.WS()->Model();
+        // The #id of each face's STEP entity, by the face's shape (without location).
+        const Handle(Transfer_TransientProcess) process = reader.WS()->TransferReader()->TransientProcess();
+        const Handle(StepData_StepModel) model = reader.StepModel();
+        std::map<const TopoDS_TShape*, int> ids;
+        for (int i = 1; i <= model->NbEntities(); ++i) {
+            const Handle(Standard_Transient) entity = model->Value(i);
+            if (!entity->IsKind(STANDARD_TYPE(StepShape_Face))) continue;
+            const TopoDS_Shape result = TransferBRep::ShapeResult(process, entity);
+            if (!result.IsNull()) ids[result.TShape().get()] = model->IdentLabel(entity);
+        }
         TopTools_IndexedMapOfShape faces;
         TopExp::MapShapes(shape, TopAbs_FACE, faces);
         for (int n = 1; n <= faces.Extent(); ++n) {
@@ -535,8 +557,7 @@ StepFile readStep(const std::string& path) {
                 out.warnings.push_back("face " + std::to_string(n) + " skipped: " + occtMessage(e));
                 continue;
             }
-            const Handle(Standard_Transient) entity = tr->EntityFromShapeResult(faces(n), 1);
-            if (!entity.IsNull()) f.stepId = model->Number(entity);
+            if (auto it = ids.find(faces(n).TShape().get()); it != ids.end()) f.stepId = it->second;
             out.faces.push_back(std::move(f));
         }
     } catch (const Standard_Failure& e) {

@@ -55,10 +55,10 @@ std::vector<ReportRow> summarize(const ReadReport& report) {
     return rows;
 }
 
-std::string listEntities(const std::vector<int>& entities, std::size_t shown) {
+std::string listEntities(const std::vector<int>& entities, std::size_t shown, const std::string& prefix) {
     std::string s;
     const std::size_t n = std::min(shown, entities.size());
-    for (std::size_t k = 0; k < n; ++k) s += (k ? ", " : "") + std::to_string(entities[k]);
+    for (std::size_t k = 0; k < n; ++k) s += (k ? ", " : "") + prefix + std::to_string(entities[k]);
     if (entities.size() > n) s += " and " + std::to_string(entities.size() - n) + " more";
     return s;
 }

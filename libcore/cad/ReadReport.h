@@ -63,7 +63,7 @@ struct ReportRow {
 };
 std::vector<ReportRow> summarize(const ReadReport& report);
 
-/// "1, 3, 5 and 12 more" (at most `shown` numbers).
-std::string listEntities(const std::vector<int>& entities, std::size_t shown = 8);
+/// "1, 3, 5 and 12 more" (at most `shown` numbers, each after `prefix`, e.g. "#").
+std::string listEntities(const std::vector<int>& entities, std::size_t shown = 8, const std::string& prefix = "");
 
 }  // namespace aero::cad

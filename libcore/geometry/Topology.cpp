@@ -213,14 +213,14 @@ Vec3<double> image(const PatchSet& set, const Piece& p, double t) {
     return nurbs::evaluate(set.patches[static_cast<std::size_t>(p.patch)], uv[0], uv[1]);
 }
 
-/// Golden-section search for the extremum of f on [lo, hi] (40 steps); `maximum` picks which.
+/// Golden-section search for the extremum of f on [lo, hi] (`steps` steps); `maximum` picks which.
 template <class F>
-double golden(F f, double lo, double hi, bool maximum, double& best) {
+double golden(F f, double lo, double hi, bool maximum, double& best, int steps = 40) {
     const double g = 0.5 * (std::sqrt(5.0) - 1.0);
     double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
     double f1 = f(x1), f2 = f(x2);
     auto better = [&](double a, double b) { return maximum ? a > b : a < b; };
-    for (int it = 0; it < 40; ++it) {
+    for (int it = 0; it < steps; ++it) {
         if (better(f1, f2)) {
             hi = x2;
             x2 = x1;
@@ -253,7 +253,8 @@ double distanceTo(const PatchSet& set, const Piece& p, const Vec3<double>& x) {
     if (d == 0) return 0;
     const double lo = p.t[k == 0 ? 0 : k - 1], hi = p.t[std::min(k + 1, p.t.size() - 1)];
     double at = 0;
-    return std::min(d, golden([&](double t) { return (image(set, p, t) - x).norm(); }, lo, hi, false, at));
+    // The distance is V-shaped at a point on the curve: 80 steps shrink the bracket to round-off.
+    return std::min(d, golden([&](double t) { return (image(set, p, t) - x).norm(); }, lo, hi, false, at, 80));
 }
 
 double distanceToBox(const Piece& p, const Vec3<double>& x) {
