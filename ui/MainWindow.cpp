@@ -66,7 +66,8 @@ constexpr int kArrowSamples = 7;  // sensitivity arrows per patch and direction
 
 bool supportedSuffix(const QString& path) {
     const QString s = QFileInfo(path).suffix().toLower();
-    return s == QLatin1String("json") || s == QLatin1String("igs") || s == QLatin1String("iges");
+    return s == QLatin1String("json") || s == QLatin1String("igs") || s == QLatin1String("iges") || s == QLatin1String("stp") ||
+           s == QLatin1String("step");
 }
 
 }  // namespace
@@ -249,7 +250,7 @@ void MainWindow::createMenus() {
                                           &MainWindow::chooseAndOpen),
                           "actionOpen");
     open->setShortcut(QKeySequence::Open);
-    open->setToolTip(tr("Open a project (.json case), an IGES file or a patch set"));
+    open->setToolTip(tr("Open a project (.json case), an IGES or STEP file or a patch set"));
     recentMenu_ = file->addMenu(tr("Open &Recent"));
     recentMenu_->setObjectName(QStringLiteral("menuRecent"));
     connect(recentMenu_, &QMenu::aboutToShow, this, &MainWindow::fillRecentMenu);
@@ -268,7 +269,7 @@ void MainWindow::createMenus() {
     needsGeometry_.push_back(saveAsAction);
     QMenu* exportMenu = file->addMenu(tr("&Export"));
     exportMenu->setToolTipsVisible(true);
-    needsGeometry_.push_back(named(exportMenu->addAction(tr("Deformed &Geometry (IGES, JSON)..."), this,
+    needsGeometry_.push_back(named(exportMenu->addAction(tr("Deformed &Geometry (IGES, STEP, JSON)..."), this,
                                                          &MainWindow::exportGeometry),
                                    "actionExportGeometry"));
     needsGeometry_.push_back(named(exportMenu->addAction(tr("Geometry for &ParaView (VTK)..."), this, &MainWindow::exportVtk),
@@ -729,9 +730,9 @@ bool MainWindow::loadFile(const QString& path, QString* error) {
     bool project = false;
     if (suffix == QLatin1String("json")) {
         project = io::looksLikeCase(file);
-    } else if (suffix != QLatin1String("igs") && suffix != QLatin1String("iges")) {
+    } else if (!supportedSuffix(path)) {
         if (error)
-            *error = tr("'%1': unsupported file type (expected a project .json, a patch set .json, .igs or .iges)").arg(path);
+            *error = tr("'%1': unsupported file type (expected a project .json, a patch set .json, .igs, .iges, .stp or .step)").arg(path);
         return false;
     }
     if (!guarded([&] { project ? document_->openProject(path) : document_->newFromGeometry(path); }, error)) return false;
@@ -836,8 +837,8 @@ void MainWindow::chooseAndOpen() {
     if (!maybeSave()) return;
     const QString path = QFileDialog::getOpenFileName(
         this, tr("Open"), lastDirectory_,
-        tr("Projects and geometry (*.json *.igs *.iges *.IGS *.IGES);;Aeroform project or patch set (*.json);;"
-           "IGES (*.igs *.iges *.IGS *.IGES);;All files (*)"));
+        tr("Projects and geometry (*.json *.igs *.iges *.IGS *.IGES *.stp *.step *.STP *.STEP);;Aeroform project or patch set (*.json);;"
+           "IGES (*.igs *.iges *.IGS *.IGES);;STEP (*.stp *.step *.STP *.STEP);;All files (*)"));
     if (path.isEmpty()) return;
     QString error;
     if (!loadFile(path, &error)) QMessageBox::critical(this, tr("Cannot open file"), error);
@@ -927,7 +928,7 @@ void MainWindow::exportGeometry() {
         if (answer != QMessageBox::Yes) return;
     }
     const QString path = QFileDialog::getSaveFileName(this, tr("Export Deformed Geometry"), lastDirectory_,
-                                                      tr("IGES (*.igs *.iges);;Aeroform patch set (*.json)"));
+                                                      tr("IGES (*.igs *.iges);;STEP (*.stp *.step);;Aeroform patch set (*.json)"));
     if (path.isEmpty()) return;
     QString error;
     if (guarded([&] { document_->exportGeometry(path); }, &error))

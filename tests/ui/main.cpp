@@ -12,6 +12,7 @@ int runBackgroundJobTest(int argc, char** argv);
 int runMainWindowTest(int argc, char** argv, bool canRender);
 int runLatticeEditorTest(int argc, char** argv, bool canRender);
 int runMeshPreviewTest(int argc, char** argv, bool canRender);
+int runPatchSceneTest(int argc, char** argv, bool canRender);
 
 int main(int argc, char** argv) {
     // Without an X display QApplication could not even start on xcb; start it offscreen then
@@ -32,5 +33,6 @@ int main(int argc, char** argv) {
     failed += runMainWindowTest(argc, argv, canRender);
     failed += runLatticeEditorTest(argc, argv, canRender);
     failed += runMeshPreviewTest(argc, argv, canRender);
+    failed += runPatchSceneTest(argc, argv, canRender);
     return failed == 0 ? 0 : 1;
 }
