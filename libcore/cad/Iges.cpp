@@ -419,6 +419,7 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
 
     const File file = iges::parse(readText(path), path);
     for (const Entity& e : file.entities) iges::check(file, e);
+    iges::checkCycles(file);
     const geometry::LengthUnit& unit = fileUnit(file.global, rep, path);
     rep.unit = std::string(unit.name);
     if (file.global.modelScale != 1.0)

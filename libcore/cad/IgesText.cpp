@@ -342,6 +342,23 @@ int nonNull(const File& f, const Entity& e, std::size_t index) {
     return de;
 }
 
+bool curveType(int t) { return t == 100 || t == 102 || t == 104 || t == 106 || t == 110 || t == 112 || t == 126 || t == 130; }
+bool surfaceType(int t) {
+    return t == 108 || t == 114 || t == 118 || t == 120 || t == 122 || t == 128 || t == 140 || t == 143 || t == 144 ||
+           (t >= 190 && t <= 198);
+}
+
+/// A pointer that must refer to an entity of the given kind (curve, surface, or one type).
+int typed(const File& f, const Entity& e, std::size_t index, bool (*kind)(int), const char* what) {
+    const int de = nonNull(f, e, index);
+    const Entity& to = *f.at(de);
+    if (!kind(to.type))
+        failEntity(f, e, parameterName(index) + " = " + std::to_string(de) + " points to " + describe(to) + ", not " + what);
+    return de;
+}
+
+bool curveOnSurface(int t) { return t == 142; }
+
 }  // namespace
 
 void check(const File& f, const Entity& e) {
@@ -369,33 +386,35 @@ void check(const File& f, const Entity& e) {
             needCount(f, e, 1, "composite curve");
             const int n = count(f, e, 0, limit);
             needCount(f, e, 1 + static_cast<std::size_t>(n), "composite curve");
-            for (int k = 0; k < n; ++k) nonNull(f, e, 1 + static_cast<std::size_t>(k));
+            for (int k = 0; k < n; ++k) typed(f, e, 1 + static_cast<std::size_t>(k), curveType, "a curve");
             break;
         }
         case 142: {
             needCount(f, e, 5, "curve on a surface");
-            nonNull(f, e, 1);
+            typed(f, e, 1, surfaceType, "a surface");
             const int b = pointer(f, e, 2), c = pointer(f, e, 3);
             if (b == 0 && c == 0) failEntity(f, e, "has neither a parameter-space curve nor a model-space curve");
+            if (b != 0) typed(f, e, 2, curveType, "a curve");
+            if (c != 0) typed(f, e, 3, curveType, "a curve");
             const int pref = integer(f, e, 4);
             if (pref < 0 || pref > 3) failEntity(f, e, "parameter 5 (preferred representation) is " + e.params[4] + ", not 0-3");
             break;
         }
         case 144: {
             needCount(f, e, 4, "trimmed surface");
-            nonNull(f, e, 0);
+            typed(f, e, 0, surfaceType, "a surface");
             const int n1 = integer(f, e, 1);
             if (n1 != 0 && n1 != 1) failEntity(f, e, "parameter 2 (outer boundary flag) is " + e.params[1] + ", not 0 or 1");
             const int n2 = count(f, e, 2, limit);
             needCount(f, e, 4 + static_cast<std::size_t>(n2), "trimmed surface");
-            if (n1 == 1) nonNull(f, e, 3);
+            if (n1 == 1) typed(f, e, 3, curveOnSurface, "a curve on a surface (142)");
             else (void)pointer(f, e, 3);
-            for (int k = 0; k < n2; ++k) nonNull(f, e, 4 + static_cast<std::size_t>(k));
+            for (int k = 0; k < n2; ++k) typed(f, e, 4 + static_cast<std::size_t>(k), curveOnSurface, "a curve on a surface (142)");
             break;
         }
         case 143: {
             needCount(f, e, 3, "bounded surface");
-            nonNull(f, e, 1);
+            typed(f, e, 1, surfaceType, "a surface");
             const int n = count(f, e, 2, limit);
             needCount(f, e, 3 + static_cast<std::size_t>(n), "bounded surface");
             for (int k = 0; k < n; ++k) nonNull(f, e, 3 + static_cast<std::size_t>(k));
@@ -418,24 +437,24 @@ void check(const File& f, const Entity& e) {
         }
         case 120:
             needCount(f, e, 4, "surface of revolution");
-            nonNull(f, e, 0);
-            nonNull(f, e, 1);
+            typed(f, e, 0, [](int t) { return t == 110; }, "a line (the axis)");
+            typed(f, e, 1, curveType, "a curve");
             (void)real(f, e, 2);
             (void)real(f, e, 3);
             break;
         case 118:
             needCount(f, e, 4, "ruled surface");
-            nonNull(f, e, 0);
-            nonNull(f, e, 1);
+            typed(f, e, 0, curveType, "a curve");
+            typed(f, e, 1, curveType, "a curve");
             break;
         case 122:
             needCount(f, e, 4, "tabulated cylinder");
-            nonNull(f, e, 0);
+            typed(f, e, 0, curveType, "a curve");
             for (std::size_t k = 1; k < 4; ++k) (void)real(f, e, k);
             break;
         case 140:
             needCount(f, e, 5, "offset surface");
-            nonNull(f, e, 4);
+            typed(f, e, 4, surfaceType, "a surface");
             break;
         case 108:
             needCount(f, e, 4, "plane");
@@ -627,6 +646,36 @@ std::vector<int> geometryChildren(const File& f, const Entity& e) {
             break;
     }
     return out;
+}
+
+void checkCycles(const File& f) {
+    // Iterative depth-first search over the geometry pointers; a pointer back to an entity on the
+    // current path is a cycle (OpenCASCADE would recurse without end).
+    std::vector<char> state(f.entities.size(), 0);  // 0 new, 1 on the path, 2 done
+    for (const Entity& root : f.entities) {
+        if (state[static_cast<std::size_t>(root.de / 2)]) continue;
+        std::vector<std::pair<const Entity*, std::vector<int>>> stack;
+        stack.push_back({&root, geometryChildren(f, root)});
+        state[static_cast<std::size_t>(root.de / 2)] = 1;
+        while (!stack.empty()) {
+            auto& [e, children] = stack.back();
+            if (children.empty()) {
+                state[static_cast<std::size_t>(e->de / 2)] = 2;
+                stack.pop_back();
+                continue;
+            }
+            const int c = children.back();
+            children.pop_back();
+            const Entity& child = *f.at(c);
+            char& s = state[static_cast<std::size_t>(c / 2)];
+            if (s == 1)
+                failEntity(f, *e, "refers to " + describe(child) + ", which refers back to it: the entities form a cycle");
+            if (s == 0) {
+                s = 1;
+                stack.push_back({&child, geometryChildren(f, child)});
+            }
+        }
+    }
 }
 
 std::string typeName(int type) {

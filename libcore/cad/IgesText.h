@@ -72,6 +72,9 @@ void check(const File& f, const Entity& e);
 /// not something of its own. Empty for types whose pointers are not geometry.
 std::vector<int> geometryChildren(const File& f, const Entity& e);
 
+/// Throws InputError naming the file and an entity whose geometry pointers lead back to it.
+void checkCycles(const File& f);
+
 /// A short name of an entity type: "rational B-spline surface" for 128, ... ("entity type N"
 /// for unknown ones).
 std::string typeName(int type);

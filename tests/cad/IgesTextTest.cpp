@@ -386,6 +386,11 @@ TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
         {1, 12, "-1.", "entity 2 (type 126, directory line 3): weight 1 is -1."},
         {2, 3, "1.2.3", "entity 3 (type 110, directory line 5): parameter 4 is not a number: '1.2.3'"},
         {8, 3, "abc", "entity 9 (type 144, directory line 17): parameter 4 is not a number: 'abc'"},
+        {8, 3, "3", "entity 9 (type 144, directory line 17): parameter 4 = 3 points to entity 2 (type 126, directory line 3), not a "
+                    "curve on a surface (142)"},
+        {5, 1, "19", "entity 6 (type 142, directory line 11): parameter 2 = 19 points to entity 10 (type 116, directory line 19), not a "
+                     "surface"},
+        {4, 2, "9", "entity 5 (type 102, directory line 9): refers to entity 5 (type 102, directory line 9), which refers back to it"},
     };
     const std::string path = outputPath("hand_broken.igs");
     for (const Break& b : breaks) {
