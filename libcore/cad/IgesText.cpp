@@ -129,6 +129,8 @@ double parseNumber(std::string_view token, bool& finite) {
 
 std::string parameterName(std::size_t index) { return "parameter " + std::to_string(index + 1); }
 
+constexpr double kLargestValue = 1e15;
+
 }  // namespace
 
 const Entity* File::at(int de) const {
@@ -234,8 +236,15 @@ File parse(const std::string& text, const std::string& path) {
         if (written != e.type)
             failEntity(f, e, "its parameter data starts with type '" + (tokens.empty() ? std::string() : tokens[0].text) + "'");
         for (std::size_t i = 1; i < tokens.size(); ++i) {
-            if (geometric(e.type) && !tokens[i].string && !isNumber(tokens[i].text))
-                failEntity(f, e, parameterName(i - 1) + " is not a number: '" + tokens[i].text + "'");
+            if (geometric(e.type) && !tokens[i].string) {
+                if (!isNumber(tokens[i].text)) failEntity(f, e, parameterName(i - 1) + " is not a number: '" + tokens[i].text + "'");
+                // No geometry needs more than 15 orders of magnitude; such values are corrupt
+                // data, and OpenCASCADE's algorithms can run without end on them.
+                bool finite = true;
+                const double v = parseNumber(tokens[i].text, finite);
+                if (finite && std::abs(v) > kLargestValue)
+                    failEntity(f, e, parameterName(i - 1) + " is " + tokens[i].text + ": larger in magnitude than 1e15");
+            }
             e.params.push_back(tokens[i].text);
         }
     }
@@ -268,6 +277,27 @@ int pointer(const File& f, const Entity& e, std::size_t index) {
 
 namespace {
 
+/// The knot vector of `count` values from parameter `first`: non-decreasing, a non-empty range,
+/// no knot repeated more than degree + 1 times (OpenCASCADE's reader crashes on such data in
+/// B-rep loops). Throws GeometryError naming the entity.
+void checkKnots(const File& f, const Entity& e, std::size_t first, std::size_t count, int degree, const char* which,
+                const char* what) {
+    double previous = 0;
+    int run = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        const double t = real(f, e, first + k);
+        run = (k > 0 && t == previous) ? run + 1 : 1;
+        if ((k > 0 && t < previous) || run > degree + 1)
+            throw GeometryError("IGES file '" + f.path + "': " + describe(e) + " is not a valid " + what + ": its " + which +
+                                "knot vector " + (t < previous ? "decreases" : "repeats a knot more than degree + 1 times") +
+                                " at knot " + std::to_string(k + 1) + " (parameter " + std::to_string(first + k + 1) + ")");
+        previous = t;
+    }
+    if (!(real(f, e, first + count - 1) > real(f, e, first)))
+        throw GeometryError("IGES file '" + f.path + "': " + describe(e) + " is not a valid " + what + ": its " + which +
+                            "knot vector has an empty range");
+}
+
 /// Entity 128 (issue #20: counts or degrees that did not match the data crashed OpenCASCADE's
 /// reader; weights of 0, -1 or 1e-300 became a polynomial surface without a word).
 void checkSurface128(const File& f, const Entity& e) {
@@ -299,6 +329,8 @@ void checkSurface128(const File& f, const Entity& e) {
         if (!(w >= 1e-100)) fail("weight " + std::to_string(k + 1) + " is " + p[w0 + k] + " (weights must be positive and not vanishingly small)");
     }
     for (std::size_t k = 0; k < static_cast<std::size_t>(needed) - 1; ++k) (void)real(f, e, k);  // every value finite
+    checkKnots(f, e, 9, static_cast<std::size_t>(knotsU), static_cast<int>(M1), "u ", "B-spline surface");
+    checkKnots(f, e, 9 + static_cast<std::size_t>(knotsU), static_cast<std::size_t>(knotsV), static_cast<int>(M2), "v ", "B-spline surface");
 }
 
 /// Entity 126 (rational B-spline curve), the same checks.
@@ -322,6 +354,16 @@ void checkCurve126(const File& f, const Entity& e) {
         if (!(w >= 1e-100)) fail("weight " + std::to_string(k + 1) + " is " + p[w0 + k] + " (weights must be positive and not vanishingly small)");
     }
     for (std::size_t k = 0; k < static_cast<std::size_t>(needed) - 1; ++k) (void)real(f, e, k);
+    checkKnots(f, e, 6, static_cast<std::size_t>(knots), static_cast<int>(M), "", "B-spline curve");
+    // All control points the same: a curve of zero length.
+    const std::size_t p0 = w0 + static_cast<std::size_t>(n);
+    bool moves = false;
+    for (std::size_t k = 1; k < static_cast<std::size_t>(n) && !moves; ++k)
+        for (std::size_t d = 0; d < 3; ++d) moves = moves || real(f, e, p0 + 3 * k + d) != real(f, e, p0 + d);
+    if (!moves) fail("all its control points are the same point: a curve of zero length");
+    const double v0 = real(f, e, p0 + 3 * static_cast<std::size_t>(n)), v1 = real(f, e, p0 + 3 * static_cast<std::size_t>(n) + 1);
+    if (!(v0 < v1)) fail("its parameter range [" + p[p0 + 3 * static_cast<std::size_t>(n)] + ", " +
+                         p[p0 + 3 * static_cast<std::size_t>(n) + 1] + "] is empty");
 }
 
 void needCount(const File& f, const Entity& e, std::size_t count, const char* what) {
@@ -329,10 +371,12 @@ void needCount(const File& f, const Entity& e, std::size_t count, const char* wh
         failEntity(f, e, "has " + std::to_string(e.params.size()) + " parameters after its type, a " + what + " needs " + std::to_string(count));
 }
 
-/// A count parameter in [0, limit].
-int count(const File& f, const Entity& e, std::size_t index, int limit) {
+/// A count parameter in [least, limit] (OpenCASCADE's entity readers crash on some empty lists).
+int count(const File& f, const Entity& e, std::size_t index, int limit, int least = 0) {
     const int n = integer(f, e, index);
-    if (n < 0 || n > limit) failEntity(f, e, parameterName(index) + " (a count) is " + e.params[index] + ", outside [0, " + std::to_string(limit) + "]");
+    if (n < least || n > limit)
+        failEntity(f, e, parameterName(index) + " (a count) is " + e.params[index] + ", outside [" + std::to_string(least) + ", " +
+                             std::to_string(limit) + "]");
     return n;
 }
 
@@ -359,6 +403,22 @@ int typed(const File& f, const Entity& e, std::size_t index, bool (*kind)(int), 
 
 bool curveOnSurface(int t) { return t == 142; }
 
+/// A 0/1 flag.
+int flag(const File& f, const Entity& e, std::size_t index) {
+    const int v = integer(f, e, index);
+    if (v != 0 && v != 1) failEntity(f, e, parameterName(index) + " (a flag) is " + e.params[index] + ", not 0 or 1");
+    return v;
+}
+
+/// An index into an edge list (504) or vertex list (502): in [1, its count].
+void listIndex(const File& f, const Entity& e, std::size_t index, const Entity& list) {
+    const int i = integer(f, e, index);
+    const int n = list.params.empty() ? 0 : integer(f, list, 0);
+    if (i < 1 || i > n)
+        failEntity(f, e, parameterName(index) + " = " + e.params[index] + " is not an index into " + describe(list) + " (1 to " +
+                             std::to_string(n) + ")");
+}
+
 }  // namespace
 
 void check(const File& f, const Entity& e) {
@@ -372,11 +432,14 @@ void check(const File& f, const Entity& e) {
             break;
         case 110:
             needCount(f, e, 6, "line");
-            for (std::size_t k = 0; k < 6; ++k) (void)real(f, e, k);
+            if (real(f, e, 0) == real(f, e, 3) && real(f, e, 1) == real(f, e, 4) && real(f, e, 2) == real(f, e, 5))
+                failEntity(f, e, "a line of zero length (its two points are the same)");
             break;
         case 100:
             needCount(f, e, 7, "circular arc");
             for (std::size_t k = 0; k < 7; ++k) (void)real(f, e, k);
+            if (real(f, e, 1) == real(f, e, 3) && real(f, e, 2) == real(f, e, 4))
+                failEntity(f, e, "a circular arc of radius 0 (its start is its centre)");
             break;
         case 124:
             needCount(f, e, 12, "transformation matrix");
@@ -384,7 +447,7 @@ void check(const File& f, const Entity& e) {
             break;
         case 102: {
             needCount(f, e, 1, "composite curve");
-            const int n = count(f, e, 0, limit);
+            const int n = count(f, e, 0, limit, 1);
             needCount(f, e, 1 + static_cast<std::size_t>(n), "composite curve");
             for (int k = 0; k < n; ++k) typed(f, e, 1 + static_cast<std::size_t>(k), curveType, "a curve");
             break;
@@ -415,7 +478,7 @@ void check(const File& f, const Entity& e) {
         case 143: {
             needCount(f, e, 3, "bounded surface");
             typed(f, e, 1, surfaceType, "a surface");
-            const int n = count(f, e, 2, limit);
+            const int n = count(f, e, 2, limit, 1);
             needCount(f, e, 3 + static_cast<std::size_t>(n), "bounded surface");
             for (int k = 0; k < n; ++k) nonNull(f, e, 3 + static_cast<std::size_t>(k));
             break;
@@ -423,7 +486,7 @@ void check(const File& f, const Entity& e) {
         case 141: {
             needCount(f, e, 4, "boundary");
             nonNull(f, e, 2);
-            const int n = count(f, e, 3, limit);
+            const int n = count(f, e, 3, limit, 1);
             std::size_t at = 4;
             for (int k = 0; k < n; ++k) {
                 needCount(f, e, at + 3, "boundary");
@@ -463,55 +526,73 @@ void check(const File& f, const Entity& e) {
             break;
         case 186: {
             needCount(f, e, 3, "manifold solid");
-            nonNull(f, e, 0);
+            typed(f, e, 0, [](int t) { return t == 514; }, "a shell (514)");
+            flag(f, e, 1);
             const int n = count(f, e, 2, limit);
             needCount(f, e, 3 + 2 * static_cast<std::size_t>(n), "manifold solid");
-            for (int k = 0; k < n; ++k) nonNull(f, e, 3 + 2 * static_cast<std::size_t>(k));
+            for (int k = 0; k < n; ++k) {
+                typed(f, e, 3 + 2 * static_cast<std::size_t>(k), [](int t) { return t == 514; }, "a shell (514)");
+                flag(f, e, 4 + 2 * static_cast<std::size_t>(k));
+            }
             break;
         }
         case 514: {
             needCount(f, e, 1, "shell");
-            const int n = count(f, e, 0, limit);
+            const int n = count(f, e, 0, limit, 1);
             needCount(f, e, 1 + 2 * static_cast<std::size_t>(n), "shell");
-            for (int k = 0; k < n; ++k) nonNull(f, e, 1 + 2 * static_cast<std::size_t>(k));
+            for (int k = 0; k < n; ++k) {
+                typed(f, e, 1 + 2 * static_cast<std::size_t>(k), [](int t) { return t == 510; }, "a face (510)");
+                flag(f, e, 2 + 2 * static_cast<std::size_t>(k));
+            }
             break;
         }
         case 510: {
             needCount(f, e, 3, "face");
-            nonNull(f, e, 0);
-            const int n = count(f, e, 1, limit);
+            typed(f, e, 0, surfaceType, "a surface");
+            const int n = count(f, e, 1, limit, 1);
+            flag(f, e, 2);
             needCount(f, e, 3 + static_cast<std::size_t>(n), "face");
-            for (int k = 0; k < n; ++k) nonNull(f, e, 3 + static_cast<std::size_t>(k));
+            for (int k = 0; k < n; ++k) typed(f, e, 3 + static_cast<std::size_t>(k), [](int t) { return t == 508; }, "a loop (508)");
             break;
         }
         case 508: {
             needCount(f, e, 1, "loop");
-            const int n = count(f, e, 0, limit);
+            const int n = count(f, e, 0, limit, 1);
             std::size_t at = 1;
             for (int k = 0; k < n; ++k) {
                 needCount(f, e, at + 5, "loop");
-                nonNull(f, e, at + 1);
+                const int type = flag(f, e, at);  // 0: an edge of an edge list, 1: a vertex
+                const int list = typed(f, e, at + 1, type == 0 ? +[](int t) { return t == 504; } : +[](int t) { return t == 502; },
+                                       type == 0 ? "an edge list (504)" : "a vertex list (502)");
+                listIndex(f, e, at + 2, *f.at(list));
+                flag(f, e, at + 3);
                 const int m = count(f, e, at + 4, limit);
                 needCount(f, e, at + 5 + 2 * static_cast<std::size_t>(m), "loop");
-                for (int j = 0; j < m; ++j) nonNull(f, e, at + 6 + 2 * static_cast<std::size_t>(j));
+                for (int j = 0; j < m; ++j) {
+                    flag(f, e, at + 5 + 2 * static_cast<std::size_t>(j));
+                    typed(f, e, at + 6 + 2 * static_cast<std::size_t>(j), curveType, "a curve");
+                }
                 at += 5 + 2 * static_cast<std::size_t>(m);
             }
             break;
         }
         case 504: {
             needCount(f, e, 1, "edge list");
-            const int n = count(f, e, 0, limit);
+            const int n = count(f, e, 0, limit, 1);
             needCount(f, e, 1 + 5 * static_cast<std::size_t>(n), "edge list");
             for (int k = 0; k < n; ++k) {
-                nonNull(f, e, 1 + 5 * static_cast<std::size_t>(k));
-                nonNull(f, e, 2 + 5 * static_cast<std::size_t>(k));
-                nonNull(f, e, 4 + 5 * static_cast<std::size_t>(k));
+                const std::size_t at = 1 + 5 * static_cast<std::size_t>(k);
+                typed(f, e, at, curveType, "a curve");
+                for (std::size_t v : {at + 1, at + 3}) {
+                    const int list = typed(f, e, v, [](int t) { return t == 502; }, "a vertex list (502)");
+                    listIndex(f, e, v + 1, *f.at(list));
+                }
             }
             break;
         }
         case 502: {
             needCount(f, e, 1, "vertex list");
-            const int n = count(f, e, 0, 10000000);
+            const int n = count(f, e, 0, 10000000, 1);
             needCount(f, e, 1 + 3 * static_cast<std::size_t>(n), "vertex list");
             for (std::size_t k = 1; k <= 3 * static_cast<std::size_t>(n); ++k) (void)real(f, e, k);
             break;

@@ -78,6 +78,7 @@
 #include "common/AtomicFile.h"
 #include "common/Error.h"
 #include "geometry/Units.h"
+#include "nurbs/Basis.h"
 
 namespace aero::cad::occt {
 
@@ -381,6 +382,8 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
     out.converted = !done.empty();
     for (const std::string& d : done) out.conversion += (out.conversion.empty() ? "" : "; ") + d;
     out.patch = toPatch(*bspline);
+    // Our NURBS evaluate up to degree 9 (fixed workspaces): check before anything evaluates.
+    nurbs::validate(out.patch, "the converted surface");
     const geometry::BoundingBox box = geometry::controlBoundingBox(geometry::PatchSet{{out.patch}, {}, {}, {}, {}});
     const double size = std::hypot(box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]);
 
@@ -401,6 +404,11 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
                 break;
             }
             TrimCurve tc = toTrimCurve(pcurve, f, l);
+            if (tc.curve.degree > nurbs::kMaxDegree) {
+                out.trimProblem = "a parameter-space curve of degree " + std::to_string(tc.curve.degree) + " (Aeroform's go up to " +
+                                  std::to_string(nurbs::kMaxDegree) + ")";
+                break;
+            }
             double deviation = edgeDeviation(edge, pcurve, f, l, out.patch);
             if (projectEdges && deviation > 1e-12 * size) {
                 // OpenCASCADE's reader computed this p-curve: project the edge more tightly and
@@ -408,9 +416,10 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
                 Standard_Real pf, pl;
                 if (const Handle(Geom2d_Curve) projected = projectEdge(edge, face, bspline, size, pf, pl); !projected.IsNull()) {
                     const double d = edgeDeviation(edge, projected, pf, pl, out.patch);
-                    if (d < deviation) {
+                    TrimCurve candidate = toTrimCurve(projected, pf, pl);
+                    if (d < deviation && candidate.curve.degree <= nurbs::kMaxDegree) {
                         deviation = d;
-                        tc = toTrimCurve(projected, pf, pl);
+                        tc = std::move(candidate);
                     }
                 }
             }
@@ -445,6 +454,8 @@ void appendFaces(const TopoDS_Shape& shape, bool projectEdges, std::vector<Face>
             out.push_back(convertFace(TopoDS::Face(faces(n)), projectEdges));
         } catch (const Standard_Failure& e) {
             failure += (failure.empty() ? "" : "; ") + std::string("face ") + std::to_string(n) + ": " + occtMessage(e);
+        } catch (const GeometryError& e) {
+            failure += (failure.empty() ? "" : "; ") + std::string("face ") + std::to_string(n) + ": " + e.what();
         }
     }
 }
@@ -555,6 +566,9 @@ StepFile readStep(const std::string& path) {
                 f = convertFace(TopoDS::Face(faces(n)), true);
             } catch (const Standard_Failure& e) {
                 out.warnings.push_back("face " + std::to_string(n) + " skipped: " + occtMessage(e));
+                continue;
+            } catch (const GeometryError& e) {
+                out.warnings.push_back("face " + std::to_string(n) + " skipped: " + e.what());
                 continue;
             }
             if (auto it = ids.find(faces(n).TShape().get()); it != ids.end()) f.stepId = it->second;
