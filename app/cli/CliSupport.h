@@ -22,6 +22,7 @@ bool hasFlag(const Args& a, const char* flag);
 std::string extension(const std::string& path);
 
 /// Reads a patch set from .json (native), .igs/.iges or .stp/.step; other extensions are sniffed.
+/// The reader's warnings (changes to the geometry) go to stderr.
 geometry::PatchSet loadPatchSet(const std::string& path);
 /// Writes .json, .igs/.iges or .stp/.step by extension; InputError for anything else.
 void savePatchSet(const geometry::PatchSet& set, const std::string& path);

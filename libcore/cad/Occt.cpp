@@ -384,8 +384,12 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
     out.patch = toPatch(*bspline);
     // Our NURBS evaluate up to degree 9 (fixed workspaces): check before anything evaluates.
     nurbs::validate(out.patch, "the converted surface");
-    const geometry::BoundingBox box = geometry::controlBoundingBox(geometry::PatchSet{{out.patch}, {}, {}, {}, {}});
-    const double size = std::hypot(box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]);
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (std::size_t a = 0; a < out.patch.points.size(); ++a) {
+        lo[a % 3] = std::min(lo[a % 3], out.patch.points[a]);
+        hi[a % 3] = std::max(hi[a % 3], out.patch.points[a]);
+    }
+    const double size = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);  // of the control net
 
     // The loops in the surface's parameter space, each curve in the direction the wire runs.
     geometry::PatchTrim trim;

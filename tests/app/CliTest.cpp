@@ -296,6 +296,50 @@ TEST(Cli, DeformTheSampleCaseWritesExactGeometryAndVtk) {
     EXPECT_FALSE(slurp(outputPath("cli_deformed/bwb.vtm")).empty());
 }
 
+// A trimmed geometry in inches: deform embeds and moves the whole base nets and writes the
+// trimmed patches (in inches) back; the mesh refuses, naming the trimmed patch.
+TEST(Cli, TrimmedGeometryDeformsButIsNotMeshed) {
+    aero::geometry::PatchSet set = aero::io::readPatchSetJson(kSamples + "/half_sphere.json");
+    set.unit = "in";
+    set.trims.resize(static_cast<std::size_t>(set.size()));
+    const auto& p = set.patches[3];
+    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(), v1 = p.knotsV.back();
+    set.trims[3].outer = aero::geometry::rectangleLoop(u0, 0.5 * (u0 + u1), v0, v1);
+    aero::io::writePatchSetJson(set, tmp("trimmed_sphere.json"));
+    const std::string lattice = R"("lattices": [{"name": "body", "counts": [6, 6, 2], "degrees": [3, 3, 1], "padding": [0.05, 0.0, 0.05]}],
+        "design_variables": {"stations": [{"lattice": "body", "direction": 1, "bits": ["001","011","011","011","011","011"],
+                                           "translation_bound": 3}]},
+        "values": {"body.S5.ty": 0.5})";
+    const std::string c = tmp("trimmed_case.json");
+    std::ofstream(c) << R"({"format": "aeroform.case", "version": 1, "geometry": ")" << tmp("trimmed_sphere.json") << "\", " << lattice
+                     << R"(, "output": {"geometry": "cli_trimmed/deformed.igs"}})";
+    Result r = run("deform '" + c + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["embedded_points"], 521);
+    EXPECT_TRUE(j["volume"].is_null());  // not computed over trimmed patches
+    EXPECT_NE(r.err.find("enclosed volume not computed (1 trimmed patches)"), std::string::npos) << r.err;
+    r = run("info '" + outputPath("cli_trimmed/deformed.igs") + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto ji = nlohmann::json::parse(r.out);
+    EXPECT_EQ(ji["unit"], "in");
+    EXPECT_EQ(ji["trimmed_patches"], 1);
+    ASSERT_EQ(ji["read"].size(), 2u);
+    EXPECT_EQ(ji["read"][0]["type"], 128);
+    EXPECT_EQ(ji["read"][0]["count"], 19);
+    EXPECT_EQ(ji["read"][1]["type"], 144);
+    EXPECT_EQ(ji["read"][1]["outcome"], "kept with trimming, exactly");
+    // The mesh level needs untrimmed patches.
+    const std::string m = tmp("trimmed_mesh.json");
+    std::ofstream(m) << R"({"format": "aeroform.case", "version": 1, "geometry": ")" << tmp("trimmed_sphere.json") << "\", " << lattice
+                     << R"(, "mesh": {"level": "coarse", "refine": 0.3}})";
+    r = run("mesh '" + m + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("needs untrimmed patches: patch 4 ('Y+-4') of '" + tmp("trimmed_sphere.json") + "' is trimmed"),
+              std::string::npos)
+        << r.err;
+}
+
 TEST(Cli, DeformRefusesAFoldedLatticeAndWritesNothing) {
     std::filesystem::remove_all(outputPath("cli_fold"));
     const std::string c = writeCase("fold.json", R"(
