@@ -514,7 +514,8 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
                 const occt::Face& face = r.faces[k];
                 const bool exactSurface = !face.converted && face.surfaceType == "Geom_BSplineSurface" && onlyBSplines;
                 anyConverted = anyConverted || !exactSurface;
-                if (face.converted && !face.conversion.empty()) notes.push_back(face.conversion);
+                if (face.converted && !face.conversion.empty() && std::find(notes.begin(), notes.end(), face.conversion) == notes.end())
+                    notes.push_back(face.conversion);
                 if (face.surfaceType == "Geom_OffsetSurface")
                     rep.warnings.push_back(what + ": an offset surface, approximated by a NURBS surface");
                 if (!face.trimProblem.empty()) {

@@ -12,6 +12,7 @@
 #include <memory>
 #include <numbers>
 
+#include "Document.h"
 #include "MainWindow.h"
 #include "PatchScene.h"
 #include "UiTestSupport.h"
@@ -137,6 +138,16 @@ class PatchSceneTest : public QObject {
         }
         const QImage shot = window_->viewport()->grabImage();
         QVERIFY(shot.save(kScreenshotDir + QStringLiteral("/trimmed_patches.png")));
+
+        // Exported from the window's document to STEP and read back: the unit and the trim kept.
+        const QString exported = dir.filePath(QStringLiteral("exported.stp"));
+        window_->document().exportGeometry(exported);
+        const aero::geometry::PatchSet back = aero::cad::readStep(exported.toStdString());
+        QCOMPARE(back.unit, std::string("m"));
+        QCOMPARE(back.size(), 2);
+        QVERIFY(back.trimmed(0));
+        QVERIFY(!back.trimmed(1));
+        QCOMPARE(back.patches[1].points, set.patches[1].points);
     }
 
     void deformationKeepsTheTessellation() {
