@@ -1,6 +1,7 @@
 // STEP import and export (see Step.h): the report around OpenCASCADE's translator (cad/Occt.h).
 #include "cad/Step.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -68,6 +69,16 @@ geometry::PatchSet readStep(const std::string& path, ReadReport* report) {
             item.trim = TrimOutcome::Computed;
             note += std::string(note.empty() ? "" : "; ") + "trim loops from OpenCASCADE's p-curves: largest distance " +
                     number(f.trimDeviation) + " from the model-space edges";
+            // As for IGES: loops further than 1e-9 of the patch's size from the edges change the
+            // geometry.
+            double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+            for (std::size_t a = 0; a < f.patch.points.size(); ++a) {
+                lo[a % 3] = std::min(lo[a % 3], f.patch.points[a]);
+                hi[a % 3] = std::max(hi[a % 3], f.patch.points[a]);
+            }
+            if (f.trimDeviation > 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]))
+                rep.warnings.push_back(what + ": trim loops from OpenCASCADE's p-curves, largest distance " + number(f.trimDeviation) +
+                                       " from the model-space edges");
         }
         item.note = note;
         set.patches.push_back(std::move(f.patch));
