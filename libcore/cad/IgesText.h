@@ -24,9 +24,9 @@ struct Entity {
     int de = 0;  // the directory entry's first line (odd): what pointers in the file refer to
     int type = 0;
     int form = 0;
-    int transform = 0;   // DE of a transformation matrix (124), 0 for none
-    int status = 0;      // 8 digits: blank, subordinate, entity use, hierarchy (2 digits each)
-    std::string label;   // directory field 18, trimmed
+    int transform = 0;  // DE of a transformation matrix (124), 0 for none
+    int status = 0;     // 8 digits: blank, subordinate, entity use, hierarchy (2 digits each)
+    std::string label;  // directory field 18, trimmed
     int subscript = 0;
     std::vector<std::string> params;  // parameters after the type, strings as their text
 

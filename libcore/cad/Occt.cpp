@@ -18,11 +18,11 @@
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
-#include <GeomAPI_ProjectPointOnCurve.hxx>
-#include <GeomProjLib.hxx>
 #include <Geom2dConvert.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
+#include <GeomProjLib.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
@@ -45,7 +45,6 @@
 #include <StepData_StepModel.hxx>
 #include <StepData_StepWriter.hxx>
 #include <StepShape_Face.hxx>
-#include <TransferBRep.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColStd_Array2OfReal.hxx>
@@ -60,6 +59,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Wire.hxx>
+#include <TransferBRep.hxx>
 #include <Transfer_Binder.hxx>
 #include <Transfer_TransientProcess.hxx>
 #include <XSControl_TransferReader.hxx>
@@ -133,20 +133,24 @@ void prepareOcct(const std::string& cascadeUnit) {
         // std::cerr ("cerr" is a reserved name of Message_PrinterOStream, not a file).
         const Handle(Message_Messenger)& messenger = Message::DefaultMessenger();
         messenger->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
-        Handle(Message_PrinterOStream) printer = new Message_PrinterOStream("cerr", Standard_False, Message_Fail);
+        Handle(Message_PrinterOStream) printer =
+            new Message_PrinterOStream("cerr", Standard_False, Message_Fail);
         printer->SetToColorize(Standard_False);
         messenger->AddPrinter(printer);
     });
     // Set every time: these are global and somebody else may have changed them.
     Interface_Static::SetCVal("xstep.cascade.unit", cascadeUnit.c_str());
-    Interface_Static::SetIVal("read.iges.bspline.continuity", 0);  // keep B-spline knots as they are
+    Interface_Static::SetIVal("read.iges.bspline.continuity",
+                              0);  // keep B-spline knots as they are
     // Curves OpenCASCADE computes (p-curves of model-space trims) to 1e-9 of the file's unit,
     // not to the file's stated resolution.
     Interface_Static::SetIVal("read.precision.mode", 1);
     Interface_Static::SetRVal("read.precision.val", 1e-9);
 }
 
-std::string quoted(const std::string& path) { return "'" + path + "'"; }
+std::string quoted(const std::string& path) {
+    return "'" + path + "'";
+}
 
 std::string occtMessage(const Standard_Failure& e) {
     const char* text = e.GetMessageString();
@@ -184,7 +188,8 @@ Patch toPatch(const Geom_BSplineSurface& s) {
 }
 
 /// Flat knot vector -> (distinct knots, multiplicities), 1-based as OCCT wants them.
-void compressKnots(const std::vector<double>& flat, TColStd_Array1OfReal& knots, TColStd_Array1OfInteger& mults) {
+void compressKnots(const std::vector<double>& flat, TColStd_Array1OfReal& knots,
+                   TColStd_Array1OfInteger& mults) {
     std::vector<double> distinct;
     std::vector<int> count;
     for (double k : flat) {
@@ -216,7 +221,8 @@ Handle(Geom_BSplineSurface) toOcct(const Patch& p) {
             poles(i + 1, j + 1) = gp_Pnt(p.points[3 * k], p.points[3 * k + 1], p.points[3 * k + 2]);
             weights(i + 1, j + 1) = p.rational() ? p.weights[k] : 1.0;
         }
-    if (p.rational()) return new Geom_BSplineSurface(poles, weights, ku, kv, mu, mv, p.degreeU, p.degreeV);
+    if (p.rational())
+        return new Geom_BSplineSurface(poles, weights, ku, kv, mu, mv, p.degreeU, p.degreeV);
     return new Geom_BSplineSurface(poles, ku, kv, mu, mv, p.degreeU, p.degreeV);
 }
 
@@ -231,18 +237,19 @@ Handle(Geom2d_BSplineCurve) toOcct2d(const TrimCurve& c) {
         poles(i + 1) = gp_Pnt2d(c.curve.points[3 * i], c.curve.points[3 * i + 1]);
         weights(i + 1) = c.curve.rational() ? c.curve.weights[i] : 1.0;
     }
-    if (c.curve.rational()) return new Geom2d_BSplineCurve(poles, weights, knots, mults, c.curve.degree);
+    if (c.curve.rational())
+        return new Geom2d_BSplineCurve(poles, weights, knots, mults, c.curve.degree);
     return new Geom2d_BSplineCurve(poles, knots, mults, c.curve.degree);
 }
 
 bool clamped(const Geom_BSplineSurface& s) {
     const int pu = s.UDegree() + 1, pv = s.VDegree() + 1;
-    return s.UMultiplicity(1) == pu && s.UMultiplicity(s.NbUKnots()) == pu && s.VMultiplicity(1) == pv &&
-           s.VMultiplicity(s.NbVKnots()) == pv;
+    return s.UMultiplicity(1) == pu && s.UMultiplicity(s.NbUKnots()) == pu &&
+           s.VMultiplicity(1) == pv && s.VMultiplicity(s.NbVKnots()) == pv;
 }
 
 /// A p-curve on [f, l] as a clamped, non-periodic B-spline piece.
-TrimCurve toTrimCurve(const Handle(Geom2d_Curve)& pcurve, double f, double l) {
+TrimCurve toTrimCurve(const Handle(Geom2d_Curve) & pcurve, double f, double l) {
     Handle(Geom2d_Curve) c = pcurve;
     while (auto t = Handle(Geom2d_TrimmedCurve)::DownCast(c)) c = t->BasisCurve();
     Handle(Geom2d_BSplineCurve) b = Handle(Geom2d_BSplineCurve)::DownCast(c);
@@ -276,13 +283,14 @@ TrimCurve toTrimCurve(const Handle(Geom2d_Curve)& pcurve, double f, double l) {
 
 /// Whether every point of the loop lies on the boundary of the parameter rectangle.
 bool onRectangle(const TrimLoop& loop, const Patch& p) {
-    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(), v1 = p.knotsV.back();
+    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(),
+                 v1 = p.knotsV.back();
     const double tol = 1e-9 * std::max(u1 - u0, v1 - v0);
     for (const TrimCurve& c : loop.curves)
         for (int k = 0; k <= 8; ++k) {
             const geometry::Point2 uv = geometry::evaluate(c, c.first + (c.last - c.first) * k / 8);
-            const bool edge = std::abs(uv[0] - u0) <= tol || std::abs(uv[0] - u1) <= tol || std::abs(uv[1] - v0) <= tol ||
-                              std::abs(uv[1] - v1) <= tol;
+            const bool edge = std::abs(uv[0] - u0) <= tol || std::abs(uv[0] - u1) <= tol ||
+                              std::abs(uv[1] - v0) <= tol || std::abs(uv[1] - v1) <= tol;
             if (!edge) return false;
         }
     return true;
@@ -290,21 +298,24 @@ bool onRectangle(const TrimLoop& loop, const Patch& p) {
 
 /// Largest distance from S(p-curve(t)) to the edge's model-space curve (projected onto it: the
 /// geometric distance, whatever the two parametrizations).
-double edgeDeviation(const TopoDS_Edge& edge, const Handle(Geom2d_Curve)& pcurve, double f, double l, const Patch& patch) {
+double edgeDeviation(const TopoDS_Edge& edge, const Handle(Geom2d_Curve) & pcurve, double f,
+                     double l, const Patch& patch) {
     if (BRep_Tool::Degenerated(edge)) return 0;
     Standard_Real f3, l3;
     TopLoc_Location loc;
     const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, loc, f3, l3);
     if (curve.IsNull()) return 0;
     const Handle(Geom_Curve) moved =
-        loc.IsIdentity() ? curve : Handle(Geom_Curve)::DownCast(curve->Transformed(loc.Transformation()));
+        loc.IsIdentity() ? curve
+                         : Handle(Geom_Curve)::DownCast(curve->Transformed(loc.Transformation()));
     double worst = 0;
     for (int k = 0; k <= 16; ++k) {
         const gp_Pnt2d uv = pcurve->Value(f + (l - f) * k / 16);
         const auto s = nurbs::evaluate(patch, uv.X(), uv.Y());
         const gp_Pnt x(s.x(), s.y(), s.z());
         GeomAPI_ProjectPointOnCurve proj(x, moved, f3, l3);
-        double d = proj.NbPoints() > 0 ? proj.LowerDistance() : std::numeric_limits<double>::infinity();
+        double d =
+            proj.NbPoints() > 0 ? proj.LowerDistance() : std::numeric_limits<double>::infinity();
         d = std::min({d, x.Distance(moved->Value(f3)), x.Distance(moved->Value(l3))});
         worst = std::max(worst, d);
     }
@@ -325,14 +336,16 @@ bool identity(const TopLoc_Location& loc) {
 /// The edge's model-space curve projected onto the (final) surface to 1e-10 of the patch's size:
 /// exact where the projection is analytic, else an approximation tighter than OpenCASCADE's
 /// reader makes. Null if the projection fails or the edge is a seam or degenerate.
-Handle(Geom2d_Curve) projectEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, const Handle(Geom_BSplineSurface)& surface,
-                                 double size, double& f, double& l) {
+Handle(Geom2d_Curve)
+    projectEdge(const TopoDS_Edge& edge, const TopoDS_Face& face,
+                const Handle(Geom_BSplineSurface) & surface, double size, double& f, double& l) {
     if (BRep_Tool::Degenerated(edge) || BRep_Tool::IsClosed(edge, face)) return nullptr;
     TopLoc_Location loc;
     const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, loc, f, l);
     if (curve.IsNull()) return nullptr;
     const Handle(Geom_Curve) moved =
-        loc.IsIdentity() ? curve : Handle(Geom_Curve)::DownCast(curve->Transformed(loc.Transformation()));
+        loc.IsIdentity() ? curve
+                         : Handle(Geom_Curve)::DownCast(curve->Transformed(loc.Transformation()));
     Standard_Real tolerance = 1e-10 * size;
     try {
         return GeomProjLib::Curve2d(moved, f, l, surface, tolerance);
@@ -348,7 +361,8 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
     Handle(Geom_Surface) raw = BRep_Tool::Surface(face, loc);
     if (raw.IsNull()) throw Standard_Failure("face without a surface");
     Handle(Geom_Surface) basis = raw;
-    while (auto rt = Handle(Geom_RectangularTrimmedSurface)::DownCast(basis)) basis = rt->BasisSurface();
+    while (auto rt = Handle(Geom_RectangularTrimmedSurface)::DownCast(basis))
+        basis = rt->BasisSurface();
     out.surfaceType = basis->DynamicType()->Name();
 
     std::vector<std::string> done;
@@ -358,9 +372,11 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
         BRepBuilderAPI_NurbsConvert convert(face, Standard_True);
         face = TopoDS::Face(convert.Shape().Oriented(TopAbs_FORWARD));
         Handle(Geom_Surface) s = BRep_Tool::Surface(face);  // location applied
-        while (auto rt = Handle(Geom_RectangularTrimmedSurface)::DownCast(s)) s = rt->BasisSurface();
+        while (auto rt = Handle(Geom_RectangularTrimmedSurface)::DownCast(s))
+            s = rt->BasisSurface();
         bspline = Handle(Geom_BSplineSurface)::DownCast(s);
-        if (bspline.IsNull()) throw Standard_Failure("could not be converted to a B-spline surface");
+        if (bspline.IsNull())
+            throw Standard_Failure("could not be converted to a B-spline surface");
         done.push_back(out.surfaceType + " converted to an exact NURBS surface");
     } else if (!identity(loc)) {
         bspline = Handle(Geom_BSplineSurface)::DownCast(BRep_Tool::Surface(face));
@@ -389,7 +405,8 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
         lo[a % 3] = std::min(lo[a % 3], out.patch.points[a]);
         hi[a % 3] = std::max(hi[a % 3], out.patch.points[a]);
     }
-    const double size = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);  // of the control net
+    const double size =
+        std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);  // of the control net
 
     // The loops in the surface's parameter space, each curve in the direction the wire runs.
     geometry::PatchTrim trim;
@@ -409,7 +426,8 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
             }
             TrimCurve tc = toTrimCurve(pcurve, f, l);
             if (tc.curve.degree > nurbs::kMaxDegree) {
-                out.trimProblem = "a parameter-space curve of degree " + std::to_string(tc.curve.degree) + " (Aeroform's go up to " +
+                out.trimProblem = "a parameter-space curve of degree " +
+                                  std::to_string(tc.curve.degree) + " (Aeroform's go up to " +
                                   std::to_string(nurbs::kMaxDegree) + ")";
                 break;
             }
@@ -418,7 +436,9 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
                 // OpenCASCADE's reader computed this p-curve: project the edge more tightly and
                 // keep whichever lies closer to it.
                 Standard_Real pf, pl;
-                if (const Handle(Geom2d_Curve) projected = projectEdge(edge, face, bspline, size, pf, pl); !projected.IsNull()) {
+                if (const Handle(Geom2d_Curve) projected =
+                        projectEdge(edge, face, bspline, size, pf, pl);
+                    !projected.IsNull()) {
                     const double d = edgeDeviation(edge, projected, pf, pl, out.patch);
                     TrimCurve candidate = toTrimCurve(projected, pf, pl);
                     if (d < deviation && candidate.curve.degree <= nurbs::kMaxDegree) {
@@ -428,7 +448,8 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
                 }
             }
             out.trimDeviation = std::max(out.trimDeviation, deviation);
-            loop.curves.push_back(we.Orientation() == TopAbs_REVERSED ? geometry::reversed(tc) : tc);
+            loop.curves.push_back(we.Orientation() == TopAbs_REVERSED ? geometry::reversed(tc)
+                                                                      : tc);
         }
         if (!out.trimProblem.empty()) break;
         if (loop.curves.empty()) continue;
@@ -450,16 +471,19 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
     return out;
 }
 
-void appendFaces(const TopoDS_Shape& shape, bool projectEdges, std::vector<Face>& out, std::string& failure) {
+void appendFaces(const TopoDS_Shape& shape, bool projectEdges, std::vector<Face>& out,
+                 std::string& failure) {
     TopTools_IndexedMapOfShape faces;
     TopExp::MapShapes(shape, TopAbs_FACE, faces);
     for (int n = 1; n <= faces.Extent(); ++n) {
         try {
             out.push_back(convertFace(TopoDS::Face(faces(n)), projectEdges));
         } catch (const Standard_Failure& e) {
-            failure += (failure.empty() ? "" : "; ") + std::string("face ") + std::to_string(n) + ": " + occtMessage(e);
+            failure += (failure.empty() ? "" : "; ") + std::string("face ") + std::to_string(n) +
+                       ": " + occtMessage(e);
         } catch (const GeometryError& e) {
-            failure += (failure.empty() ? "" : "; ") + std::string("face ") + std::to_string(n) + ": " + e.what();
+            failure += (failure.empty() ? "" : "; ") + std::string("face ") + std::to_string(n) +
+                       ": " + e.what();
         }
     }
 }
@@ -470,14 +494,19 @@ const geometry::LengthUnit& unitOrMm(const std::string& name) {
 }
 
 /// xstep.cascade.unit's name of a unit ("INCH" for inches, the IGES names otherwise).
-std::string cascadeName(const geometry::LengthUnit& u) { return std::string(u.igesName); }
+std::string cascadeName(const geometry::LengthUnit& u) {
+    return std::string(u.igesName);
+}
 
-double millimetres(const geometry::LengthUnit& u) { return static_cast<double>(u.tenthNanometres) / 1e7; }
+double millimetres(const geometry::LengthUnit& u) {
+    return static_cast<double>(u.tenthNanometres) / 1e7;
+}
 
 }  // namespace
 
 std::vector<EntityFaces> transferIgesEntities(const std::string& path, const std::string& occtUnit,
-                                              const std::vector<int>& directoryEntries, const std::vector<char>& projectEdges) {
+                                              const std::vector<int>& directoryEntries,
+                                              const std::vector<char>& projectEdges) {
     std::vector<EntityFaces> results(directoryEntries.size());
     std::lock_guard lock(occtMutex);
     StdoutToStderr quiet;
@@ -485,9 +514,11 @@ std::vector<EntityFaces> transferIgesEntities(const std::string& path, const std
         prepareOcct(occtUnit);
         IGESControl_Reader reader;
         // (ReadStream does not work for IGES in OCCT 7.6: the file is read a second time.)
-        if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError(quoted(path) + " is not a readable IGES file");
+        if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+            throw InputError(quoted(path) + " is not a readable IGES file");
         const Handle(IGESData_IGESModel) model = reader.IGESModel();
-        const Handle(Transfer_TransientProcess) process = reader.WS()->TransferReader()->TransientProcess();
+        const Handle(Transfer_TransientProcess) process =
+            reader.WS()->TransferReader()->TransientProcess();
         for (std::size_t k = 0; k < directoryEntries.size(); ++k) {
             const int number = (directoryEntries[k] + 1) / 2;
             EntityFaces& r = results[k];
@@ -504,11 +535,13 @@ std::vector<EntityFaces> transferIgesEntities(const std::string& path, const std
                 continue;
             }
             const bool project = k < projectEdges.size() && projectEdges[k];
-            for (int s = before + 1; s <= reader.NbShapes(); ++s) appendFaces(reader.Shape(s), project, r.faces, r.failure);
+            for (int s = before + 1; s <= reader.NbShapes(); ++s)
+                appendFaces(reader.Shape(s), project, r.faces, r.failure);
             if (r.faces.empty() && r.failure.empty()) {
                 if (const Handle(Transfer_Binder) binder = process->Find(entity); !binder.IsNull())
                     for (int f = 1; f <= binder->Check()->NbFails(); ++f)
-                        r.failure += std::string(r.failure.empty() ? "" : "; ") + binder->Check()->CFail(f);
+                        r.failure +=
+                            std::string(r.failure.empty() ? "" : "; ") + binder->Check()->CFail(f);
                 if (r.failure.empty()) r.failure = "OpenCASCADE built no face from it";
             }
         }
@@ -525,7 +558,8 @@ StepFile readStep(const std::string& path) {
     try {
         prepareOcct("MM");
         STEPControl_Reader reader;
-        if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError(quoted(path) + " is not a readable STEP file");
+        if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+            throw InputError(quoted(path) + " is not a readable STEP file");
         TColStd_SequenceOfAsciiString lengths, angles, solidAngles;
         reader.FileUnits(lengths, angles, solidAngles);
         std::set<std::string> distinct;
@@ -536,12 +570,14 @@ StepFile readStep(const std::string& path) {
             unit = geometry::findLengthUnit(out.unitName);
             if (!unit)
                 out.warnings.push_back("the file's length unit '" + out.unitName +
-                                       "' is not one Aeroform knows: coordinates were converted to millimetres by OpenCASCADE");
+                                       "' is not one Aeroform knows: coordinates were converted to "
+                                       "millimetres by OpenCASCADE");
             if (distinct.size() > 1) {
                 std::string all;
                 for (const std::string& d : distinct) all += (all.empty() ? "" : ", ") + d;
-                out.warnings.push_back("the file uses several length units (" + all + "): all coordinates were converted to '" +
-                                       out.unitName + "'");
+                out.warnings.push_back("the file uses several length units (" + all +
+                                       "): all coordinates were converted to '" + out.unitName +
+                                       "'");
             }
         }
         const geometry::LengthUnit& target = unit ? *unit : *geometry::findLengthUnit("mm");
@@ -551,9 +587,11 @@ StepFile readStep(const std::string& path) {
         out.roots = reader.NbRootsForTransfer();
         reader.TransferRoots();
         const TopoDS_Shape shape = reader.OneShape();
-        if (shape.IsNull()) throw InputError("STEP file " + quoted(path) + " has no shape OpenCASCADE can read");
+        if (shape.IsNull())
+            throw InputError("STEP file " + quoted(path) + " has no shape OpenCASCADE can read");
         // The #id of each face's STEP entity, by the face's shape (without location).
-        const Handle(Transfer_TransientProcess) process = reader.WS()->TransferReader()->TransientProcess();
+        const Handle(Transfer_TransientProcess) process =
+            reader.WS()->TransferReader()->TransientProcess();
         const Handle(StepData_StepModel) model = reader.StepModel();
         std::map<const TopoDS_TShape*, int> ids;
         for (int i = 1; i <= model->NbEntities(); ++i) {
@@ -586,7 +624,7 @@ StepFile readStep(const std::string& path) {
 
 namespace {
 
-TopoDS_Wire makeWire(const TrimLoop& loop, const Handle(Geom_Surface)& surface) {
+TopoDS_Wire makeWire(const TrimLoop& loop, const Handle(Geom_Surface) & surface) {
     BRepBuilderAPI_MakeWire wire;
     for (const TrimCurve& c : loop.curves) {
         BRepBuilderAPI_MakeEdge edge(toOcct2d(c), surface, c.first, c.last);
@@ -601,7 +639,8 @@ TopoDS_Face makeFace(const Patch& p, const geometry::PatchTrim* trim) {
     const Handle(Geom_BSplineSurface) surface = toOcct(p);
     if (!trim || !trim->trimmed()) return BRepBuilderAPI_MakeFace(surface, Precision::Confusion());
     const TrimLoop outer = trim->outer.curves.empty()
-                               ? geometry::rectangleLoop(p.knotsU.front(), p.knotsU.back(), p.knotsV.front(), p.knotsV.back())
+                               ? geometry::rectangleLoop(p.knotsU.front(), p.knotsU.back(),
+                                                         p.knotsV.front(), p.knotsV.back())
                                : trim->outer;
     BRepBuilderAPI_MakeFace make(surface, makeWire(outer, surface), Standard_True);
     for (const TrimLoop& hole : trim->holes) make.Add(makeWire(hole, surface));
@@ -630,21 +669,25 @@ void writeStep(const geometry::PatchSet& set, const std::string& path, const std
             const geometry::LengthUnit& unit = unitOrMm(set.unit);
             prepareOcct(cascadeName(unit));
             Interface_Static::SetCVal("write.step.unit", cascadeName(unit).c_str());
-            Interface_Static::SetCVal("write.step.schema", schema == "AP242" ? "AP242DIS" : "AP214IS");
+            Interface_Static::SetCVal("write.step.schema",
+                                      schema == "AP242" ? "AP242DIS" : "AP214IS");
             Interface_Static::SetIVal("write.surfacecurve.mode", 1);  // write the p-curves too
             TopoDS_Compound compound;
             BRep_Builder builder;
             builder.MakeCompound(compound);
             for (int k = 0; k < set.size(); ++k) {
                 try {
-                    builder.Add(compound, makeFace(set.patches[k], set.trimmed(k) ? &set.trims[k] : nullptr));
+                    builder.Add(compound,
+                                makeFace(set.patches[k], set.trimmed(k) ? &set.trims[k] : nullptr));
                 } catch (const Standard_Failure& e) {
-                    throw GeometryError(set.describe(k) + ": rejected by OpenCASCADE: " + occtMessage(e));
+                    throw GeometryError(set.describe(k) +
+                                        ": rejected by OpenCASCADE: " + occtMessage(e));
                 }
             }
             STEPControl_Writer writer;
             if (writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone)
-                throw InputError("cannot write STEP file " + quoted(path) + ": OpenCASCADE could not translate the faces");
+                throw InputError("cannot write STEP file " + quoted(path) +
+                                 ": OpenCASCADE could not translate the faces");
             const Handle(StepData_StepModel) model = writer.Model();
             StepData_StepWriter step(model);
             step.FloatWriter().SetFormat("%.16E");               // 17 significant digits: exact

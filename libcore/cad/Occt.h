@@ -11,13 +11,17 @@ namespace aero::cad::occt {
 /// One OpenCASCADE face as a NURBS patch with its trimming in the patch's parameter space.
 struct Face {
     geometry::Patch patch;
-    geometry::PatchTrim trim;       // not trimmed() when the face covers its whole surface
-    std::string surfaceType;        // the face's surface before conversion: "Geom_BSplineSurface", "Geom_Plane", ...
-    bool converted = false;         // not a B-spline in the source, or re-knotted / moved (computed control points)
-    std::string conversion;         // what was done, for the report
-    double trimDeviation = 0;       // largest distance between S(p-curve) and the edges' model-space curves
-    std::string trimProblem;        // non-empty: the loops could not be kept (the reason); trim is then empty
-    int stepId = 0;                 // STEP: the #id of the face entity (0 if unknown)
+    geometry::PatchTrim trim;  // not trimmed() when the face covers its whole surface
+    std::string surfaceType;   // the face's surface before conversion: "Geom_BSplineSurface",
+                               // "Geom_Plane", ...
+    bool converted =
+        false;  // not a B-spline in the source, or re-knotted / moved (computed control points)
+    std::string conversion;  // what was done, for the report
+    double trimDeviation =
+        0;  // largest distance between S(p-curve) and the edges' model-space curves
+    std::string
+        trimProblem;  // non-empty: the loops could not be kept (the reason); trim is then empty
+    int stepId = 0;   // STEP: the #id of the face entity (0 if unknown)
 };
 
 /// The faces an entity became, or why none.
@@ -33,12 +37,13 @@ struct EntityFaces {
 /// and the closer of OpenCASCADE's and ours is kept. OpenCASCADE's console output is kept off
 /// stdout. Throws InputError naming the file if OpenCASCADE cannot read it.
 std::vector<EntityFaces> transferIgesEntities(const std::string& path, const std::string& occtUnit,
-                                              const std::vector<int>& directoryEntries, const std::vector<char>& projectEdges);
+                                              const std::vector<int>& directoryEntries,
+                                              const std::vector<char>& projectEdges);
 
 struct StepFile {
     std::vector<Face> faces;
-    std::string unit;        // canonical unit of the file's length unit ("" if none found)
-    std::string unitName;    // as OpenCASCADE names it ("millimetre", "INCH", ...)
+    std::string unit;      // canonical unit of the file's length unit ("" if none found)
+    std::string unitName;  // as OpenCASCADE names it ("millimetre", "INCH", ...)
     std::vector<std::string> notes;
     std::vector<std::string> warnings;
     int roots = 0;

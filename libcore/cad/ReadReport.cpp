@@ -5,7 +5,8 @@
 namespace aero::cad {
 
 int ReadReport::count(SurfaceOutcome s) const {
-    return static_cast<int>(std::count_if(items.begin(), items.end(), [&](const ReadItem& i) { return i.surface == s; }));
+    return static_cast<int>(std::count_if(items.begin(), items.end(),
+                                          [&](const ReadItem& i) { return i.surface == s; }));
 }
 
 int ReadReport::count(TrimOutcome t) const {
@@ -21,13 +22,17 @@ std::string outcomeText(SurfaceOutcome s, TrimOutcome t) {
         case TrimOutcome::None:
             return s == SurfaceOutcome::Kept ? "kept as NURBS exactly" : surface;
         case TrimOutcome::Kept:
-            return surface + (s == SurfaceOutcome::Kept ? " with trimming, exactly" : ", trimming kept exactly");
+            return surface + (s == SurfaceOutcome::Kept ? " with trimming, exactly"
+                                                        : ", trimming kept exactly");
         case TrimOutcome::Converted:
-            return surface + (s == SurfaceOutcome::Kept ? " exactly" : "") + ", trimming converted exactly";
+            return surface + (s == SurfaceOutcome::Kept ? " exactly" : "") +
+                   ", trimming converted exactly";
         case TrimOutcome::Computed:
-            return surface + (s == SurfaceOutcome::Kept ? " exactly" : "") + ", trim curves computed by OpenCASCADE";
+            return surface + (s == SurfaceOutcome::Kept ? " exactly" : "") +
+                   ", trim curves computed by OpenCASCADE";
         case TrimOutcome::Dropped:
-            return surface + (s == SurfaceOutcome::Kept ? " exactly" : "") + ", TRIMMING DROPPED (whole base surface used)";
+            return surface + (s == SurfaceOutcome::Kept ? " exactly" : "") +
+                   ", TRIMMING DROPPED (whole base surface used)";
     }
     return surface;
 }
@@ -36,7 +41,8 @@ std::vector<ReportRow> summarize(const ReadReport& report) {
     std::vector<ReportRow> rows;
     for (const ReadItem& item : report.items) {
         auto it = std::find_if(rows.begin(), rows.end(), [&](const ReportRow& r) {
-            return r.type == item.type && r.kind == item.kind && r.surface == item.surface && r.trim == item.trim;
+            return r.type == item.type && r.kind == item.kind && r.surface == item.surface &&
+                   r.trim == item.trim;
         });
         if (it == rows.end()) {
             ReportRow r;
@@ -55,7 +61,8 @@ std::vector<ReportRow> summarize(const ReadReport& report) {
     return rows;
 }
 
-std::string listEntities(const std::vector<int>& entities, std::size_t shown, const std::string& prefix) {
+std::string listEntities(const std::vector<int>& entities, std::size_t shown,
+                         const std::string& prefix) {
     std::string s;
     const std::size_t n = std::min(shown, entities.size());
     for (std::size_t k = 0; k < n; ++k) s += (k ? ", " : "") + prefix + std::to_string(entities[k]);

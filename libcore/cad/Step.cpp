@@ -25,7 +25,8 @@ std::string number(double x) {
 /// A file that does not start like STEP ("ISO-10303-21;") is refused before OpenCASCADE sees it.
 void checkStepText(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw InputError("cannot open STEP file '" + path + "': is a directory");
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError("cannot open STEP file '" + path + "': is a directory");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError("cannot open STEP file '" + path + "': " + std::strerror(errno));
     std::string head(4096, '\0');
@@ -33,7 +34,8 @@ void checkStepText(const std::string& path) {
     head.resize(static_cast<std::size_t>(in.gcount()));
     const std::size_t start = head.find_first_not_of(" \t\r\n");
     if (start == std::string::npos || head.compare(start, 13, "ISO-10303-21;") != 0)
-        throw InputError("'" + path + "' is not a STEP file (it does not start with ISO-10303-21;)");
+        throw InputError("'" + path +
+                         "' is not a STEP file (it does not start with ISO-10303-21;)");
 }
 
 }  // namespace
@@ -46,7 +48,8 @@ geometry::PatchSet readStep(const std::string& path, ReadReport* report) {
     checkStepText(path);
     occt::StepFile file = occt::readStep(path);
     rep.unit = file.unit;
-    rep.unitSource = file.unitName.empty() ? "no length unit in the file" : "STEP length unit '" + file.unitName + "'";
+    rep.unitSource = file.unitName.empty() ? "no length unit in the file"
+                                           : "STEP length unit '" + file.unitName + "'";
     rep.warnings = file.warnings;
     rep.notes = file.notes;
 
@@ -57,33 +60,41 @@ geometry::PatchSet readStep(const std::string& path, ReadReport* report) {
         occt::Face& f = file.faces[k];
         ReadItem item;
         item.entity = f.stepId;
-        item.kind = "face on a " + (f.surfaceType.rfind("Geom_", 0) == 0 ? f.surfaceType.substr(5) : f.surfaceType);
+        item.kind = "face on a " + (f.surfaceType.rfind("Geom_", 0) == 0 ? f.surfaceType.substr(5)
+                                                                         : f.surfaceType);
         item.surface = f.converted ? SurfaceOutcome::Converted : SurfaceOutcome::Kept;
-        const std::string what = "face " + std::to_string(k + 1) + (f.stepId ? " (#" + std::to_string(f.stepId) + ")" : "");
+        const std::string what = "face " + std::to_string(k + 1) +
+                                 (f.stepId ? " (#" + std::to_string(f.stepId) + ")" : "");
         std::string note = f.conversion;
-        if (f.surfaceType == "Geom_OffsetSurface") rep.warnings.push_back(what + ": an offset surface, approximated by a NURBS surface");
+        if (f.surfaceType == "Geom_OffsetSurface")
+            rep.warnings.push_back(what + ": an offset surface, approximated by a NURBS surface");
         if (!f.trimProblem.empty()) {
             item.trim = TrimOutcome::Dropped;
-            rep.warnings.push_back(what + ": trimming dropped, the whole base surface is used: " + f.trimProblem);
+            rep.warnings.push_back(
+                what + ": trimming dropped, the whole base surface is used: " + f.trimProblem);
         } else if (f.trim.trimmed()) {
             item.trim = TrimOutcome::Computed;
-            note += std::string(note.empty() ? "" : "; ") + "trim loops from OpenCASCADE's p-curves: largest distance " +
+            note += std::string(note.empty() ? "" : "; ") +
+                    "trim loops from OpenCASCADE's p-curves: largest distance " +
                     number(f.trimDeviation) + " from the model-space edges";
             // As for IGES: loops further than 1e-9 of the patch's size from the edges change the
             // geometry.
-            double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+            double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL},
+                   hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
             for (std::size_t a = 0; a < f.patch.points.size(); ++a) {
                 lo[a % 3] = std::min(lo[a % 3], f.patch.points[a]);
                 hi[a % 3] = std::max(hi[a % 3], f.patch.points[a]);
             }
             if (f.trimDeviation > 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]))
-                rep.warnings.push_back(what + ": trim loops from OpenCASCADE's p-curves, largest distance " + number(f.trimDeviation) +
-                                       " from the model-space edges");
+                rep.warnings.push_back(
+                    what + ": trim loops from OpenCASCADE's p-curves, largest distance " +
+                    number(f.trimDeviation) + " from the model-space edges");
         }
         item.note = note;
         set.patches.push_back(std::move(f.patch));
         set.trims.push_back(std::move(f.trim));
-        set.names.push_back(f.stepId ? "face #" + std::to_string(f.stepId) : "face " + std::to_string(k + 1));
+        set.names.push_back(f.stepId ? "face #" + std::to_string(f.stepId)
+                                     : "face " + std::to_string(k + 1));
         item.patches.push_back(set.size() - 1);
         rep.items.push_back(std::move(item));
     }

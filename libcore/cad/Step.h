@@ -23,6 +23,7 @@ geometry::PatchSet readStep(const std::string& path, ReadReport* report = nullpt
 /// poles, weights and knots read back bit for bit). Written atomically; throws InputError if the
 /// file cannot be written or the schema is unknown, GeometryError naming a patch OpenCASCADE
 /// refuses.
-void writeStep(const geometry::PatchSet& set, const std::string& path, const std::string& schema = "AP214");
+void writeStep(const geometry::PatchSet& set, const std::string& path,
+               const std::string& schema = "AP214");
 
 }  // namespace aero::cad

@@ -15,8 +15,12 @@ Point2 evaluate(const TrimCurve& c, double t) {
     return {p.x(), p.y()};
 }
 
-Point2 startPoint(const TrimCurve& c) { return evaluate(c, c.first); }
-Point2 endPoint(const TrimCurve& c) { return evaluate(c, c.last); }
+Point2 startPoint(const TrimCurve& c) {
+    return evaluate(c, c.first);
+}
+Point2 endPoint(const TrimCurve& c) {
+    return evaluate(c, c.last);
+}
 
 TrimCurve reversed(const TrimCurve& c) {
     TrimCurve r;
@@ -45,8 +49,8 @@ TrimCurve lineCurve(const Point2& a, const Point2& b) {
 
 TrimLoop rectangleLoop(double u0, double u1, double v0, double v1) {
     TrimLoop loop;
-    loop.curves = {lineCurve({u0, v0}, {u1, v0}), lineCurve({u1, v0}, {u1, v1}), lineCurve({u1, v1}, {u0, v1}),
-                   lineCurve({u0, v1}, {u0, v0})};
+    loop.curves = {lineCurve({u0, v0}, {u1, v0}), lineCurve({u1, v0}, {u1, v1}),
+                   lineCurve({u1, v1}, {u0, v1}), lineCurve({u0, v1}, {u0, v0})};
     return loop;
 }
 
@@ -68,8 +72,10 @@ struct Domain {
 };
 
 Domain domainOf(const nurbs::Surface<double>& s) {
-    return {s.knotsU[static_cast<std::size_t>(s.degreeU)], s.knotsU[static_cast<std::size_t>(s.countU)],
-            s.knotsV[static_cast<std::size_t>(s.degreeV)], s.knotsV[static_cast<std::size_t>(s.countV)]};
+    return {s.knotsU[static_cast<std::size_t>(s.degreeU)],
+            s.knotsU[static_cast<std::size_t>(s.countU)],
+            s.knotsV[static_cast<std::size_t>(s.degreeV)],
+            s.knotsV[static_cast<std::size_t>(s.countV)]};
 }
 
 std::string number(double x) {
@@ -116,20 +122,23 @@ void validate(const PatchTrim& trim, const nurbs::Surface<double>& patch, std::s
                                         " (parameter-space curves lie in the (u, v) plane)");
             if (!(c.first < c.last) || c.first < c.curve.first() || c.last > c.curve.last())
                 throw GeometryError(cw + ": range [" + number(c.first) + ", " + number(c.last) +
-                                    "] is empty or outside the curve's knots [" + number(c.curve.first()) + ", " +
-                                    number(c.curve.last()) + "]");
+                                    "] is empty or outside the curve's knots [" +
+                                    number(c.curve.first()) + ", " + number(c.curve.last()) + "]");
         }
         if (const double gap = closureGap(loop); !(gap <= tol))
-            throw GeometryError(where + ": not closed (a gap of " + number(gap) + " between consecutive curves in " +
-                                "parameter space, more than " + number(tol) + ")");
+            throw GeometryError(where + ": not closed (a gap of " + number(gap) +
+                                " between consecutive curves in " + "parameter space, more than " +
+                                number(tol) + ")");
         for (const Point2& p : loopPolygon(loop, 4))
             if (p[0] < d.u0 - tol || p[0] > d.u1 + tol || p[1] < d.v0 - tol || p[1] > d.v1 + tol)
-                throw GeometryError(where + ": leaves the patch's parameter rectangle [" + number(d.u0) + ", " +
-                                    number(d.u1) + "] x [" + number(d.v0) + ", " + number(d.v1) + "] at (" +
-                                    number(p[0]) + ", " + number(p[1]) + ")");
+                throw GeometryError(where + ": leaves the patch's parameter rectangle [" +
+                                    number(d.u0) + ", " + number(d.u1) + "] x [" + number(d.v0) +
+                                    ", " + number(d.v1) + "] at (" + number(p[0]) + ", " +
+                                    number(p[1]) + ")");
     };
     if (!trim.outer.curves.empty()) check(trim.outer, "outer trim loop");
-    for (std::size_t h = 0; h < trim.holes.size(); ++h) check(trim.holes[h], "trim hole " + std::to_string(h + 1));
+    for (std::size_t h = 0; h < trim.holes.size(); ++h)
+        check(trim.holes[h], "trim hole " + std::to_string(h + 1));
 }
 
 TrimPolygons polygonize(const PatchTrim& trim, const nurbs::Surface<double>& patch, int perSpan) {

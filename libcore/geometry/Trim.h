@@ -65,7 +65,8 @@ void validate(const PatchTrim& trim, const nurbs::Surface<double>& patch, std::s
 struct TrimPolygons {
     std::vector<std::vector<Point2>> loops;
 };
-TrimPolygons polygonize(const PatchTrim& trim, const nurbs::Surface<double>& patch, int perSpan = 16);
+TrimPolygons polygonize(const PatchTrim& trim, const nurbs::Surface<double>& patch,
+                        int perSpan = 16);
 
 /// Whether (u, v) is in the kept region (even-odd rule over all loops). Points on a polygon edge
 /// may go either way.

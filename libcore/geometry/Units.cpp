@@ -29,12 +29,13 @@ struct Alias {
     std::string_view alias, unit;
 };
 constexpr Alias kAliases[] = {
-    {"inch", "in"},        {"inches", "in"},       {"millimetre", "mm"}, {"millimeter", "mm"},  {"millimetres", "mm"},
-    {"millimeters", "mm"}, {"foot", "ft"},         {"feet", "ft"},       {"mile", "mi"},        {"miles", "mi"},
-    {"metre", "m"},        {"meter", "m"},         {"metres", "m"},      {"meters", "m"},       {"kilometre", "km"},
-    {"kilometer", "km"},   {"thou", "mil"},        {"mils", "mil"},      {"micron", "um"},      {"microns", "um"},
-    {"micrometre", "um"},  {"micrometer", "um"},   {"centimetre", "cm"}, {"centimeter", "cm"},  {"microinch", "uin"},
-    {"microinches", "uin"}};
+    {"inch", "in"},        {"inches", "in"},      {"millimetre", "mm"}, {"millimeter", "mm"},
+    {"millimetres", "mm"}, {"millimeters", "mm"}, {"foot", "ft"},       {"feet", "ft"},
+    {"mile", "mi"},        {"miles", "mi"},       {"metre", "m"},       {"meter", "m"},
+    {"metres", "m"},       {"meters", "m"},       {"kilometre", "km"},  {"kilometer", "km"},
+    {"thou", "mil"},       {"mils", "mil"},       {"micron", "um"},     {"microns", "um"},
+    {"micrometre", "um"},  {"micrometer", "um"},  {"centimetre", "cm"}, {"centimeter", "cm"},
+    {"microinch", "uin"},  {"microinches", "uin"}};
 
 std::string lower(std::string_view s) {
     std::string out(s);
@@ -72,11 +73,14 @@ double lengthFactor(const LengthUnit& from, const LengthUnit& to) {
 
 void convertUnits(PatchSet& set, std::string_view to) {
     const LengthUnit* target = findLengthUnit(to);
-    const std::string what = set.source.empty() ? std::string("the geometry") : "'" + set.source + "'";
+    const std::string what =
+        set.source.empty() ? std::string("the geometry") : "'" + set.source + "'";
     if (!target)
-        throw GeometryError("unknown length unit '" + std::string(to) + "' (known: " + knownLengthUnits() + ")");
+        throw GeometryError("unknown length unit '" + std::string(to) +
+                            "' (known: " + knownLengthUnits() + ")");
     if (set.unit.empty())
-        throw GeometryError(what + " states no length unit, so it cannot be converted to " + std::string(target->name));
+        throw GeometryError(what + " states no length unit, so it cannot be converted to " +
+                            std::string(target->name));
     const LengthUnit* source = findLengthUnit(set.unit);
     if (!source) throw GeometryError(what + ": unknown length unit '" + set.unit + "'");
     if (source != target) {

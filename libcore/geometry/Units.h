@@ -10,11 +10,13 @@ namespace aero::geometry {
 struct PatchSet;
 
 struct LengthUnit {
-    std::string_view name;       // canonical short name, as stored in PatchSet::unit: "mm", "m", "in", ...
-    std::string_view longName;   // "millimetre"
-    int igesFlag;                // IGES global section unit flag (1 inch, 2 mm, 4 ft, 6 m, ...)
-    std::string_view igesName;   // IGES unit name written with the flag ("MM", "M", "INCH", ...)
-    std::int64_t tenthNanometres;  // the unit's length in 1e-10 m, exactly (an integer for every unit)
+    std::string_view
+        name;  // canonical short name, as stored in PatchSet::unit: "mm", "m", "in", ...
+    std::string_view longName;  // "millimetre"
+    int igesFlag;               // IGES global section unit flag (1 inch, 2 mm, 4 ft, 6 m, ...)
+    std::string_view igesName;  // IGES unit name written with the flag ("MM", "M", "INCH", ...)
+    std::int64_t
+        tenthNanometres;  // the unit's length in 1e-10 m, exactly (an integer for every unit)
 };
 
 /// The unit named `name` (canonical or common spellings, any case: "mm", "millimetre",

@@ -71,7 +71,8 @@ inline Handle(Geom_BSplineSurface) wavySurface(double scale = 1.0) {
     TColgp_Array2OfPnt poles(1, 4, 1, 3);
     for (int i = 1; i <= 4; ++i)
         for (int j = 1; j <= 3; ++j)
-            poles(i, j) = gp_Pnt(scale * (i - 1) / 1.5, scale * (j - 1) / 2.0, scale * (0.1 * i * j + 1.0 / 7.0 + 0.01 * i * i / 3.0));
+            poles(i, j) = gp_Pnt(scale * (i - 1) / 1.5, scale * (j - 1) / 2.0,
+                                 scale * (0.1 * i * j + 1.0 / 7.0 + 0.01 * i * i / 3.0));
     TColStd_Array1OfReal ku(1, 3), kv(1, 2);
     ku(1) = 0.0;
     ku(2) = 0.7;
@@ -104,17 +105,18 @@ inline Handle(Geom2d_BSplineCurve) curve2d(const std::vector<gp_Pnt2d>& pts, int
 /// A face of `surface` bounded by a closed outer loop of two B-spline p-curves and, if `hole`, a
 /// circular hole (a Geom2d_Circle p-curve), all inside [0, 2] x [0, 1]. Model-space edge curves
 /// are computed by OCCT.
-inline TopoDS_Face trimmedFace(const Handle(Geom_BSplineSurface)& surface, bool hole) {
-    const Handle(Geom2d_BSplineCurve) lower =
-        curve2d({gp_Pnt2d(0.1, 0.1), gp_Pnt2d(0.7, 0.05), gp_Pnt2d(1.3, 0.3), gp_Pnt2d(1.9, 0.15)}, 3);
-    const Handle(Geom2d_BSplineCurve) upper =
-        curve2d({gp_Pnt2d(1.9, 0.15), gp_Pnt2d(1.5, 0.9), gp_Pnt2d(0.4, 0.95), gp_Pnt2d(0.1, 0.1)}, 2);
+inline TopoDS_Face trimmedFace(const Handle(Geom_BSplineSurface) & surface, bool hole) {
+    const Handle(Geom2d_BSplineCurve) lower = curve2d(
+        {gp_Pnt2d(0.1, 0.1), gp_Pnt2d(0.7, 0.05), gp_Pnt2d(1.3, 0.3), gp_Pnt2d(1.9, 0.15)}, 3);
+    const Handle(Geom2d_BSplineCurve) upper = curve2d(
+        {gp_Pnt2d(1.9, 0.15), gp_Pnt2d(1.5, 0.9), gp_Pnt2d(0.4, 0.95), gp_Pnt2d(0.1, 0.1)}, 2);
     BRepBuilderAPI_MakeWire outer;
     outer.Add(BRepBuilderAPI_MakeEdge(lower, surface).Edge());
     outer.Add(BRepBuilderAPI_MakeEdge(upper, surface).Edge());
     BRepBuilderAPI_MakeFace make(surface, outer.Wire(), Standard_True);
     if (hole) {
-        const Handle(Geom2d_Circle) circle = new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.9, 0.45), gp_Dir2d(1, 0)), 0.15);
+        const Handle(Geom2d_Circle) circle =
+            new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.9, 0.45), gp_Dir2d(1, 0)), 0.15);
         BRepBuilderAPI_MakeWire w;
         w.Add(BRepBuilderAPI_MakeEdge(circle, surface).Edge());
         make.Add(TopoDS::Wire(w.Wire().Reversed()));
@@ -130,8 +132,9 @@ inline TopoDS_Face trimmedFace(const Handle(Geom_BSplineSurface)& surface, bool 
 /// shape's millimetres to it) as BRep entities (mode 1) or trimmed surfaces (mode 0). With
 /// `exact`, reals get 17 digits (the toolchain's recipe); else OCCT's default ~10 digits.
 /// `surfaceCurves` = false writes no parameter-space curves (model-space trims only).
-inline void writeIgesWithOcct(const TopoDS_Shape& shape, const char* unit, int mode, const std::string& path,
-                              bool exact = true, bool surfaceCurves = true) {
+inline void writeIgesWithOcct(const TopoDS_Shape& shape, const char* unit, int mode,
+                              const std::string& path, bool exact = true,
+                              bool surfaceCurves = true) {
     IGESControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
     Interface_Static::SetIVal("write.surfacecurve.mode", surfaceCurves ? 1 : 0);
@@ -153,7 +156,8 @@ inline void writeIgesWithOcct(const TopoDS_Shape& shape, const char* unit, int m
 
 /// Writes `shape` with OCCT's STEP writer in `unit` ("MM", "M", "INCH"; no scaling: the shape's
 /// values are the file's), 17 digits when `exact`.
-inline void writeStepWithOcct(const TopoDS_Shape& shape, const char* unit, const std::string& path, bool exact = true) {
+inline void writeStepWithOcct(const TopoDS_Shape& shape, const char* unit, const std::string& path,
+                              bool exact = true) {
     STEPControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", unit);
     Interface_Static::SetCVal("write.step.unit", unit);
@@ -174,7 +178,8 @@ inline void writeStepWithOcct(const TopoDS_Shape& shape, const char* unit, const
 }
 
 /// OCCT's own reading of an IGES file with cascade unit `unit`: its B-spline faces' surfaces.
-inline std::vector<Handle(Geom_BSplineSurface)> occtSurfaces(const std::string& path, const char* unit) {
+inline std::vector<Handle(Geom_BSplineSurface)> occtSurfaces(const std::string& path,
+                                                             const char* unit) {
     IGESControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", unit);
     Interface_Static::SetIVal("read.iges.bspline.continuity", 0);
@@ -191,7 +196,8 @@ inline std::vector<Handle(Geom_BSplineSurface)> occtSurfaces(const std::string& 
 }
 
 /// Poles, weights and knots of an OCCT surface equal (==) our patch's.
-inline void expectSameSurface(const Geom_BSplineSurface& s, const geometry::Patch& p, const std::string& what) {
+inline void expectSameSurface(const Geom_BSplineSurface& s, const geometry::Patch& p,
+                              const std::string& what) {
     ASSERT_EQ(s.NbUPoles(), p.countU) << what;
     ASSERT_EQ(s.NbVPoles(), p.countV) << what;
     EXPECT_EQ(s.UDegree(), p.degreeU) << what;
@@ -201,7 +207,8 @@ inline void expectSameSurface(const Geom_BSplineSurface& s, const geometry::Patc
         for (int i = 0; i < p.countU; ++i) {
             const gp_Pnt& q = s.Pole(i + 1, j + 1);
             const int k = p.index(i, j);
-            mismatches += !(q.X() == p.points[3 * k] && q.Y() == p.points[3 * k + 1] && q.Z() == p.points[3 * k + 2]);
+            mismatches += !(q.X() == p.points[3 * k] && q.Y() == p.points[3 * k + 1] &&
+                            q.Z() == p.points[3 * k + 2]);
             if (p.rational()) mismatches += !(s.Weight(i + 1, j + 1) == p.weights[k]);
         }
     EXPECT_EQ(mismatches, 0) << what << ": poles or weights differ";

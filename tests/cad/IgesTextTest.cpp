@@ -7,7 +7,6 @@
 
 #include <BRepTools.hxx>
 #include <Geom_CylindricalSurface.hxx>
-#include <tuple>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Static.hxx>
@@ -20,6 +19,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "CadFixtures.h"
@@ -49,7 +49,8 @@ class HandIges {
     };
     std::string unitFlag = "6", unitName = "1HM", modelScale = "1.0";
 
-    int add(int type, std::vector<std::string> params, std::string status = "00000000", std::string label = "", int form = 0) {
+    int add(int type, std::vector<std::string> params, std::string status = "00000000",
+            std::string label = "", int form = 0) {
         entities.push_back({type, form, std::move(status), std::move(params), std::move(label)});
         return 2 * static_cast<int>(entities.size()) - 1;
     }
@@ -62,8 +63,10 @@ class HandIges {
             out += buf;
         };
         line("hand-written IGES for Aeroform's tests", 'S', 1);
-        const std::string g = "1H,,1H;,4Hhand,8Htest.igs,4Hhand,4Hhand,32,38,6,308,15,4Hhand," + modelScale + "," + unitFlag + "," +
-                              unitName + ",1,1.0,15H20260101.000000,1.0E-8,10.0,2Hme,2Hme,11,0,15H20260101.000000;";
+        const std::string g =
+            "1H,,1H;,4Hhand,8Htest.igs,4Hhand,4Hhand,32,38,6,308,15,4Hhand," + modelScale + "," +
+            unitFlag + "," + unitName +
+            ",1,1.0,15H20260101.000000,1.0E-8,10.0,2Hme,2Hme,11,0,15H20260101.000000;";
         int gs = 0;
         for (std::size_t at = 0; at < g.size(); at += 72) line(g.substr(at, 72), 'G', ++gs);
         std::vector<std::vector<std::string>> plines;
@@ -82,10 +85,11 @@ class HandIges {
         char buf[100];
         for (std::size_t k = 0; k < entities.size(); ++k) {
             const Entity& e = entities[k];
-            std::snprintf(buf, sizeof buf, "%8d%8d%8d%8d%8d%8d%8d%8d%8s", e.type, pointer, 0, 0, 0, 0, e.transform, 0, e.status.c_str());
+            std::snprintf(buf, sizeof buf, "%8d%8d%8d%8d%8d%8d%8d%8d%8s", e.type, pointer, 0, 0, 0,
+                          0, e.transform, 0, e.status.c_str());
             line(buf, 'D', ++d);
-            std::snprintf(buf, sizeof buf, "%8d%8d%8d%8d%8d%8s%8s%8s%8d", e.type, 0, 0, static_cast<int>(plines[k].size()), e.form, "", "",
-                          e.label.c_str(), 0);
+            std::snprintf(buf, sizeof buf, "%8d%8d%8d%8d%8d%8s%8s%8s%8d", e.type, 0, 0,
+                          static_cast<int>(plines[k].size()), e.form, "", "", e.label.c_str(), 0);
             line(buf, 'D', ++d);
             pointer += static_cast<int>(plines[k].size());
         }
@@ -109,28 +113,71 @@ HandIges trimmedWing() {
     HandIges f;
     // 128: K1 = 2, K2 = 1, degrees 2 x 1, rational; u knots on [0, 2.5], v knots on [-1, 0.1].
     f.add(128,
-          {"2", "1", "2", "1", "0", "0", "0", "0", "0",
-           "0.", "0.", "0.", "2.5D0", "2.5D0", "2.5D0",  // u knots (a Fortran exponent)
-           "-1", "-1", "0.1", "0.1",                     // v knots (an integer in a real field)
-           "1.", "0.7", "1.", "1.", "0.70000000000000007", "1.",
-           "0.1", "0.0", "1.0E-3", "1.3", "-0.0", "0.25", "2.7", "0.", "3.141592653589793",
-           "0.1", "1.1", "1.0E-3", "1.3", "1.1", "0.33333333333333331", "2.7", "1.1", "2.718281828459045",
-           "0.", "2.5", "-1.", "0.1"},
+          {"2",
+           "1",
+           "2",
+           "1",
+           "0",
+           "0",
+           "0",
+           "0",
+           "0",
+           "0.",
+           "0.",
+           "0.",
+           "2.5D0",
+           "2.5D0",
+           "2.5D0",  // u knots (a Fortran exponent)
+           "-1",
+           "-1",
+           "0.1",
+           "0.1",  // v knots (an integer in a real field)
+           "1.",
+           "0.7",
+           "1.",
+           "1.",
+           "0.70000000000000007",
+           "1.",
+           "0.1",
+           "0.0",
+           "1.0E-3",
+           "1.3",
+           "-0.0",
+           "0.25",
+           "2.7",
+           "0.",
+           "3.141592653589793",
+           "0.1",
+           "1.1",
+           "1.0E-3",
+           "1.3",
+           "1.1",
+           "0.33333333333333331",
+           "2.7",
+           "1.1",
+           "2.718281828459045",
+           "0.",
+           "2.5",
+           "-1.",
+           "0.1"},
           "00010000");
     // Outer loop: a quadratic 126, a line 110, a polyline 126, end to start.
-    f.add(126, {"2", "2", "1", "0", "1", "0", "0.", "0.", "0.", "1.", "1.", "1.", "1.", "1.", "1.",
-                "0.2", "-0.9", "0.", "1.25", "-0.95", "0.", "2.3", "-0.9", "0.", "0.", "1.", "0.", "0.", "1."},
+    f.add(126, {"2",  "2",   "1",    "0",  "1",  "0",   "0.",   "0.", "0.",   "1.",
+                "1.", "1.",  "1.",   "1.", "1.", "0.2", "-0.9", "0.", "1.25", "-0.95",
+                "0.", "2.3", "-0.9", "0.", "0.", "1.",  "0.",   "0.", "1."},
           "00010500");
     f.add(110, {"2.3", "-0.9", "0.", "2.3", "0.", "0."}, "00010500");
-    f.add(126, {"2", "1", "1", "0", "1", "0", "0.", "0.", "0.5", "1.", "1.", "1.", "1.", "1.",
-                "2.3", "0.", "0.", "1.0", "0.05", "0.", "0.2", "-0.9", "0.", "0.", "1.", "0.", "0.", "1."},
+    f.add(126, {"2",   "1",    "1",  "0",  "1",   "0",  "0.", "0.",  "0.5",  "1.",
+                "1.",  "1.",   "1.", "1.", "2.3", "0.", "0.", "1.0", "0.05", "0.",
+                "0.2", "-0.9", "0.", "0.", "1.",  "0.", "0.", "1."},
           "00010500");
     f.add(102, {"3", "3", "5", "7"}, "00010500");
     f.add(142, {"0", "1", "9", "0", "1"}, "00010000");
     // Hole: one closed degree-1 126 (a triangle), -0.59999999999999998 is -0.6 exactly.
-    f.add(126, {"3", "1", "1", "1", "1", "0", "0.", "0.", "1.", "2.", "3.", "3.", "1.", "1.", "1.", "1.",
-                "1.0", "-0.59999999999999998", "0.", "1.4", "-0.6", "0.", "1.2", "-0.3", "0.", "1.0", "-0.6", "0.",
-                "0.", "3.", "0.", "0.", "1."},
+    f.add(126, {"3",  "1",   "1",    "1",  "1",   "0",    "0.", "0.",  "1.",
+                "2.", "3.",  "3.",   "1.", "1.",  "1.",   "1.", "1.0", "-0.59999999999999998",
+                "0.", "1.4", "-0.6", "0.", "1.2", "-0.3", "0.", "1.0", "-0.6",
+                "0.", "0.",  "3.",   "0.", "0.",  "1."},
           "00010500");
     f.add(142, {"0", "1", "13", "0", "1"}, "00010000");
     f.add(144, {"1", "1", "1", "11", "15"}, "00000000", "WING");
@@ -156,7 +203,8 @@ std::string messageOf(const std::function<void()>& f) {
 
 std::vector<double> xy(const geometry::TrimCurve& c) {
     std::vector<double> out;
-    for (std::size_t a = 0; a < c.curve.points.size(); a += 3) out.insert(out.end(), {c.curve.points[a], c.curve.points[a + 1]});
+    for (std::size_t a = 0; a < c.curve.points.size(); a += 3)
+        out.insert(out.end(), {c.curve.points[a], c.curve.points[a + 1]});
     return out;
 }
 
@@ -178,7 +226,8 @@ TEST(IgesText, HandWrittenMetreFileWithATrimmedSurfaceIsReadExactly) {
     EXPECT_EQ(p.knotsU, (std::vector<double>{0, 0, 0, 2.5, 2.5, 2.5}));
     EXPECT_EQ(p.knotsV, (std::vector<double>{-1, -1, 0.1, 0.1}));
     EXPECT_EQ(p.weights, (std::vector<double>{1, 0.7, 1, 1, 0.70000000000000007, 1}));
-    EXPECT_EQ(p.points, (std::vector<double>{0.1, 0.0, 1e-3, 1.3, -0.0, 0.25, 2.7, 0, 3.141592653589793, 0.1, 1.1, 1e-3, 1.3, 1.1,
+    EXPECT_EQ(p.points, (std::vector<double>{0.1, 0.0, 1e-3, 1.3, -0.0, 0.25, 2.7, 0,
+                                             3.141592653589793, 0.1, 1.1, 1e-3, 1.3, 1.1,
                                              0.33333333333333331, 2.7, 1.1, 2.718281828459045}));
     EXPECT_TRUE(std::signbit(p.points[4]));  // -0.0 stays negative zero
 
@@ -195,7 +244,8 @@ TEST(IgesText, HandWrittenMetreFileWithATrimmedSurfaceIsReadExactly) {
     EXPECT_EQ(t.outer.curves[1].curve.degree, 1);
     EXPECT_EQ(xy(t.outer.curves[2]), (std::vector<double>{2.3, 0.0, 1.0, 0.05, 0.2, -0.9}));
     EXPECT_EQ(t.outer.curves[2].curve.knots, (std::vector<double>{0, 0, 0.5, 1, 1}));
-    EXPECT_EQ(xy(t.holes[0].curves[0]), (std::vector<double>{1.0, -0.6, 1.4, -0.6, 1.2, -0.3, 1.0, -0.6}));
+    EXPECT_EQ(xy(t.holes[0].curves[0]),
+              (std::vector<double>{1.0, -0.6, 1.4, -0.6, 1.2, -0.3, 1.0, -0.6}));
     EXPECT_EQ(t.holes[0].curves[0].first, 0.0);
     EXPECT_EQ(t.holes[0].curves[0].last, 3.0);
     EXPECT_EQ(geometry::closureGap(t.outer), 0.0);
@@ -210,9 +260,12 @@ TEST(IgesText, HandWrittenMetreFileWithATrimmedSurfaceIsReadExactly) {
     EXPECT_EQ(report.items[0].surface, SurfaceOutcome::Kept);
     EXPECT_EQ(report.items[0].trim, TrimOutcome::Kept);
     EXPECT_EQ(report.items[0].patches, std::vector<int>{0});
-    EXPECT_EQ(outcomeText(report.items[0].surface, report.items[0].trim), "kept with trimming, exactly");
+    EXPECT_EQ(outcomeText(report.items[0].surface, report.items[0].trim),
+              "kept with trimming, exactly");
     const std::vector<std::pair<int, std::string>> ignored = {
-        {19, "a point, not a surface"}, {21, "a curve, not a surface (nothing trims with it)"}, {23, "structure or attributes, not geometry"}};
+        {19, "a point, not a surface"},
+        {21, "a curve, not a surface (nothing trims with it)"},
+        {23, "structure or attributes, not geometry"}};
     for (std::size_t k = 0; k < ignored.size(); ++k) {
         const ReadItem& item = report.items[k + 1];
         EXPECT_EQ(item.entity, ignored[k].first);
@@ -249,8 +302,9 @@ TEST(IgesText, TrimmedMetreFileRoundTripsExactlyAndOcctReadsOurOutput) {
         if (a.curves.size() != b.curves.size()) return false;
         for (std::size_t k = 0; k < a.curves.size(); ++k) {
             const auto &x = a.curves[k], &y = b.curves[k];
-            if (x.curve.points != y.curve.points || x.curve.knots != y.curve.knots || x.curve.weights != y.curve.weights ||
-                x.curve.degree != y.curve.degree || x.first != y.first || x.last != y.last)
+            if (x.curve.points != y.curve.points || x.curve.knots != y.curve.knots ||
+                x.curve.weights != y.curve.weights || x.curve.degree != y.curve.degree ||
+                x.first != y.first || x.last != y.last)
                 return false;
         }
         return true;
@@ -296,8 +350,9 @@ TEST(IgesText, RuledSurfacesAndTheParameterRangeOfA128) {
     const int b = f.add(110, {"0.", "1.", "0.5", "2.", "1.", "1.5"}, "00010000");
     f.add(118, {std::to_string(a), std::to_string(b), "0", "0"});
     // A bilinear 128 on [0, 1] x [0, 1] whose parameter range is [0.25, 0.75] x [0, 1].
-    f.add(128, {"1", "1", "1", "1", "0", "0", "1", "0", "0", "0.", "0.", "1.", "1.", "0.", "0.", "1.", "1.", "1.", "1.", "1.", "1.",
-                "0.", "0.", "0.", "1.", "0.", "0.", "0.", "1.", "0.", "1.", "1.", "0.", "0.25", "0.75", "0.", "1."});
+    f.add(128, {"1",  "1",  "1",  "1",  "0",  "0",  "1",  "0",    "0",    "0.", "0.", "1.", "1.",
+                "0.", "0.", "1.", "1.", "1.", "1.", "1.", "1.",   "0.",   "0.", "0.", "1.", "0.",
+                "0.", "0.", "1.", "0.", "1.", "1.", "0.", "0.25", "0.75", "0.", "1."});
     const std::string path = outputPath("hand_ruled_in.igs");
     writeText(path, f.text());
     ReadReport report;
@@ -313,8 +368,10 @@ TEST(IgesText, RuledSurfacesAndTheParameterRangeOfA128) {
     double worst = 0;
     for (double s : {0.0, 0.3, 0.5, 1.0})
         for (double t : {0.0, 0.4, 1.0}) {
-            const double u = ruled.knotsU.front() + s * (ruled.knotsU.back() - ruled.knotsU.front());
-            const double v = ruled.knotsV.front() + t * (ruled.knotsV.back() - ruled.knotsV.front());
+            const double u =
+                ruled.knotsU.front() + s * (ruled.knotsU.back() - ruled.knotsU.front());
+            const double v =
+                ruled.knotsV.front() + t * (ruled.knotsV.back() - ruled.knotsV.front());
             const auto x = nurbs::evaluate(ruled, u, v);
             // Which parameter runs along the lines is OCCT's choice: either way the point lies on
             // the segment between the lines' points at the same fraction.
@@ -337,8 +394,8 @@ TEST(IgesText, UnitFlagsNamesAndModelScale) {
     struct Case {
         std::string flag, name, unit;
     };
-    for (const Case& c : {Case{"2", "2HMM", "mm"}, Case{"4", "2HFT", "ft"}, Case{"10", "2HCM", "cm"}, Case{"3", "2HKM", "km"},
-                          Case{"1", "", "in"}}) {
+    for (const Case& c : {Case{"2", "2HMM", "mm"}, Case{"4", "2HFT", "ft"},
+                          Case{"10", "2HCM", "cm"}, Case{"3", "2HKM", "km"}, Case{"1", "", "in"}}) {
         HandIges f = trimmedWing();
         f.unitFlag = c.flag;
         f.unitName = c.name;
@@ -356,10 +413,13 @@ TEST(IgesText, UnitFlagsNamesAndModelScale) {
     ReadReport report;
     EXPECT_EQ(readIges(path, &report).unit, "mm");
     ASSERT_EQ(report.notes.size(), 2u);
-    EXPECT_NE(report.notes[0].find("disagrees with unit flag 2"), std::string::npos) << report.notes[0];
-    EXPECT_NE(report.notes[1].find("model space scale is 0.5"), std::string::npos) << report.notes[1];
+    EXPECT_NE(report.notes[0].find("disagrees with unit flag 2"), std::string::npos)
+        << report.notes[0];
+    EXPECT_NE(report.notes[1].find("model space scale is 0.5"), std::string::npos)
+        << report.notes[1];
     // Flags outside 1-11 and unknown names under flag 3 are errors naming the file.
-    for (const auto& [flag, name, fragment] : std::vector<std::tuple<std::string, std::string, std::string>>{
+    for (const auto& [flag, name, fragment] :
+         std::vector<std::tuple<std::string, std::string, std::string>>{
              {"12", "1HM", "unit flag"}, {"3", "6HPARSEC", "unit name 'PARSEC'"}}) {
         HandIges g = trimmedWing();
         g.unitFlag = flag;
@@ -380,21 +440,37 @@ TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
         std::string value, fragment;
     };
     const std::vector<Break> breaks = {
-        {8, 0, "999", "entity 9 (type 144, directory line 17): parameter 1 = 999 does not point to a directory entry"},
-        {8, 2, "5", "entity 9 (type 144, directory line 17): has 5 parameters after its type, a trimmed surface needs 9"},
-        {8, 1, "2", "entity 9 (type 144, directory line 17): parameter 2 (outer boundary flag) is 2"},
-        {5, 2, "0", "entity 6 (type 142, directory line 11): has neither a parameter-space curve nor a model-space curve"},
-        {4, 3, "8", "entity 5 (type 102, directory line 9): parameter 4 = 8 does not point to a directory entry"},
+        {8, 0, "999",
+         "entity 9 (type 144, directory line 17): parameter 1 = 999 does not point to a directory "
+         "entry"},
+        {8, 2, "5",
+         "entity 9 (type 144, directory line 17): has 5 parameters after its type, a trimmed "
+         "surface needs 9"},
+        {8, 1, "2",
+         "entity 9 (type 144, directory line 17): parameter 2 (outer boundary flag) is 2"},
+        {5, 2, "0",
+         "entity 6 (type 142, directory line 11): has neither a parameter-space curve nor a "
+         "model-space curve"},
+        {4, 3, "8",
+         "entity 5 (type 102, directory line 9): parameter 4 = 8 does not point to a directory "
+         "entry"},
         {1, 0, "200", "entity 2 (type 126, directory line 3): K = 200, M = 2 need 1017 parameters"},
         {1, 1, "0", "entity 2 (type 126, directory line 3): degree 0 outside [1, 25]"},
         {1, 12, "-1.", "entity 2 (type 126, directory line 3): weight 1 is -1."},
-        {2, 3, "1.2.3", "entity 3 (type 110, directory line 5): parameter 4 is not a number: '1.2.3'"},
+        {2, 3, "1.2.3",
+         "entity 3 (type 110, directory line 5): parameter 4 is not a number: '1.2.3'"},
         {8, 3, "abc", "entity 9 (type 144, directory line 17): parameter 4 is not a number: 'abc'"},
-        {8, 3, "3", "entity 9 (type 144, directory line 17): parameter 4 = 3 points to entity 2 (type 126, directory line 3), not a "
-                    "curve on a surface (142)"},
-        {5, 1, "19", "entity 6 (type 142, directory line 11): parameter 2 = 19 points to entity 10 (type 116, directory line 19), not a "
-                     "surface"},
-        {4, 2, "9", "entity 5 (type 102, directory line 9): refers to entity 5 (type 102, directory line 9), which refers back to it"},
+        {8, 3, "3",
+         "entity 9 (type 144, directory line 17): parameter 4 = 3 points to entity 2 (type 126, "
+         "directory line 3), not a "
+         "curve on a surface (142)"},
+        {5, 1, "19",
+         "entity 6 (type 142, directory line 11): parameter 2 = 19 points to entity 10 (type 116, "
+         "directory line 19), not a "
+         "surface"},
+        {4, 2, "9",
+         "entity 5 (type 102, directory line 9): refers to entity 5 (type 102, directory line 9), "
+         "which refers back to it"},
     };
     const std::string path = outputPath("hand_broken.igs");
     for (const Break& b : breaks) {
@@ -416,14 +492,17 @@ TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     f.entities[0].transform = 41;
     writeText(path, f.text());
     const std::string m = messageOf<InputError>([&] { readIges(path); });
-    EXPECT_NE(m.find("entity 1 (type 128, directory line 1): transformation matrix pointer 41"), std::string::npos) << m;
+    EXPECT_NE(m.find("entity 1 (type 128, directory line 1): transformation matrix pointer 41"),
+              std::string::npos)
+        << m;
 }
 
 TEST(IgesText, ALoopThatDoesNotCloseFallsBackToOpenCascadeAndSaysWhy) {
     // The 110 of the outer loop ends short of the polyline's start: our exact reading refuses the
     // loop; OpenCASCADE's reader (which mends gaps) takes the entity, and the report says why.
     HandIges f = trimmedWing();
-    f.entities[2].params[4] = "-0.2";  // the line's end (2.3, -0.2): a gap of 0.2 in parameter space
+    f.entities[2].params[4] =
+        "-0.2";  // the line's end (2.3, -0.2): a gap of 0.2 in parameter space
     const std::string path = outputPath("hand_gap.igs");
     writeText(path, f.text());
     ReadReport report;
@@ -435,7 +514,8 @@ TEST(IgesText, ALoopThatDoesNotCloseFallsBackToOpenCascadeAndSaysWhy) {
     }
     ASSERT_FALSE(report.items.empty());
     EXPECT_EQ(report.items[0].entity, 17);
-    EXPECT_NE(report.items[0].note.find("its loops as written are not usable"), std::string::npos) << report.items[0].note;
+    EXPECT_NE(report.items[0].note.find("its loops as written are not usable"), std::string::npos)
+        << report.items[0].note;
     EXPECT_NE(report.items[0].note.find("not closed"), std::string::npos) << report.items[0].note;
     EXPECT_NE(report.items[0].trim, TrimOutcome::Kept);
 }
@@ -459,14 +539,18 @@ TEST(IgesText, CorruptedFilesGiveErrorsNotCrashes) {
     BRep_Builder builder;
     builder.MakeCompound(brep);
     builder.Add(brep, face);
-    builder.Add(brep, BRepBuilderAPI_MakeFace(Handle(Geom_Surface)(new Geom_CylindricalSurface(gp::XOY(), 2.0)), 0.0, 3.0, 0.0, 1.0, 1e-7));
-    for (const auto& [shape, mode, curves] : {std::tuple<TopoDS_Shape, int, bool>{face, 0, true}, {face, 0, false}, {brep, 1, true}}) {
+    builder.Add(brep, BRepBuilderAPI_MakeFace(
+                          Handle(Geom_Surface)(new Geom_CylindricalSurface(gp::XOY(), 2.0)), 0.0,
+                          3.0, 0.0, 1.0, 1e-7));
+    for (const auto& [shape, mode, curves] :
+         {std::tuple<TopoDS_Shape, int, bool>{face, 0, true}, {face, 0, false}, {brep, 1, true}}) {
         const std::string path = outputPath("fuzz_source.igs");
         fixtures::writeIgesWithOcct(shape, "MM", mode, path, true, curves);
         sources.push_back(slurp(path));
     }
-    const std::vector<std::string> values = {"-1", "0",  "1",  "2",  "3",  "99999", "1.0E300", "-1.0E300", "0.5", "7",
-                                             "17", "1000000", "-0.0", "2.0", "5", "9", "11", "13", "-3", "4", "1.5"};
+    const std::vector<std::string> values = {
+        "-1",      "0",    "1",   "2", "3", "99999", "1.0E300", "-1.0E300", "0.5", "7",  "17",
+        "1000000", "-0.0", "2.0", "5", "9", "11",    "13",      "-3",       "4",   "1.5"};
     std::mt19937 rng(4242);
     int read = 0, refused = 0;
     for (int iter = 0; iter < 240; ++iter) {
@@ -477,7 +561,8 @@ TEST(IgesText, CorruptedFilesGiveErrorsNotCrashes) {
         for (std::size_t k = 0; k < lines.size(); ++k)
             if (lines[k].size() >= 73 && lines[k][72] == 'P') data.push_back(k);
         for (int m = 0; m < 1 + iter % 3; ++m) {
-            std::string& l = lines[data[std::uniform_int_distribution<std::size_t>(0, data.size() - 1)(rng)]];
+            std::string& l =
+                lines[data[std::uniform_int_distribution<std::size_t>(0, data.size() - 1)(rng)]];
             std::vector<std::pair<std::size_t, std::size_t>> fields;
             std::size_t start = 0;
             for (std::size_t c = 0; c < 64; ++c)
@@ -486,10 +571,13 @@ TEST(IgesText, CorruptedFilesGiveErrorsNotCrashes) {
                     start = c + 1;
                 }
             if (fields.empty()) continue;
-            const auto [a, b] = fields[std::uniform_int_distribution<std::size_t>(0, fields.size() - 1)(rng)];
-            std::string v = values[std::uniform_int_distribution<std::size_t>(0, values.size() - 1)(rng)];
+            const auto [a, b] =
+                fields[std::uniform_int_distribution<std::size_t>(0, fields.size() - 1)(rng)];
+            std::string v =
+                values[std::uniform_int_distribution<std::size_t>(0, values.size() - 1)(rng)];
             if (v.size() > b - a) v = v.substr(0, b - a);
-            l.replace(a, b - a, std::string(b - a - v.size(), ' ') + v);  // the field keeps its columns
+            l.replace(a, b - a,
+                      std::string(b - a - v.size(), ' ') + v);  // the field keeps its columns
         }
         std::string text;
         for (const std::string& l : lines) text += l + "\n";
@@ -500,7 +588,8 @@ TEST(IgesText, CorruptedFilesGiveErrorsNotCrashes) {
             ++read;
         } catch (const Error& e) {
             ++refused;
-            EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << "iteration " << iter << ": " << e.what();
+            EXPECT_NE(std::string(e.what()).find(path), std::string::npos)
+                << "iteration " << iter << ": " << e.what();
         } catch (const std::exception& e) {
             ADD_FAILURE() << "iteration " << iter << ": not an aero::Error: " << e.what();
         }

@@ -114,7 +114,8 @@ TEST(Step, TrimmedFacesKeepTheirLoops) {
     ASSERT_EQ(report.items.size(), 1u);
     EXPECT_EQ(report.items[0].surface, SurfaceOutcome::Kept);
     EXPECT_EQ(report.items[0].trim, TrimOutcome::Computed);
-    EXPECT_NE(report.items[0].note.find("largest distance"), std::string::npos) << report.items[0].note;
+    EXPECT_NE(report.items[0].note.find("largest distance"), std::string::npos)
+        << report.items[0].note;
     const geometry::PatchTrim& t = set.trims[0];
     ASSERT_EQ(t.holes.size(), 1u);
     // The hole is the circle of radius 0.15: area pi r^2 in parameter space.
@@ -124,7 +125,8 @@ TEST(Step, TrimmedFacesKeepTheirLoops) {
         fixtures::writeIgesWithOcct(fixtures::trimmedFace(surface, true), "MM", 0, p);
         return p;
     }());
-    EXPECT_NEAR(std::abs(geometry::signedArea(t.outer)), std::abs(geometry::signedArea(iges.trims[0].outer)), 1e-12);
+    EXPECT_NEAR(std::abs(geometry::signedArea(t.outer)),
+                std::abs(geometry::signedArea(iges.trims[0].outer)), 1e-12);
 }
 
 // Our trimmed patches out to STEP and back: the surface exactly, the loops bounding the same
@@ -132,7 +134,8 @@ TEST(Step, TrimmedFacesKeepTheirLoops) {
 TEST(Step, OurTrimmedPatchesRoundTrip) {
     const PatchSet set = readIges([&] {
         const std::string p = outputPath("occt_trimmed_for_step2.igs");
-        fixtures::writeIgesWithOcct(fixtures::trimmedFace(fixtures::wavySurface(), true), "M", 0, p);
+        fixtures::writeIgesWithOcct(fixtures::trimmedFace(fixtures::wavySurface(), true), "M", 0,
+                                    p);
         return p;
     }());
     ASSERT_TRUE(set.trimmed(0));
@@ -146,8 +149,10 @@ TEST(Step, OurTrimmedPatchesRoundTrip) {
     expectSamePatch(set.patches[0], back.patches[0], "the base surface");
     ASSERT_TRUE(back.trimmed(0));
     ASSERT_EQ(back.trims[0].holes.size(), 1u);
-    EXPECT_NEAR(std::abs(geometry::signedArea(back.trims[0].outer)), std::abs(geometry::signedArea(set.trims[0].outer)), 1e-12);
-    EXPECT_NEAR(std::abs(geometry::signedArea(back.trims[0].holes[0])), std::abs(geometry::signedArea(set.trims[0].holes[0])), 1e-12);
+    EXPECT_NEAR(std::abs(geometry::signedArea(back.trims[0].outer)),
+                std::abs(geometry::signedArea(set.trims[0].outer)), 1e-12);
+    EXPECT_NEAR(std::abs(geometry::signedArea(back.trims[0].holes[0])),
+                std::abs(geometry::signedArea(set.trims[0].holes[0])), 1e-12);
 }
 
 TEST(Step, BadInputIsAnInputErrorNamingTheFile) {
@@ -161,7 +166,8 @@ TEST(Step, BadInputIsAnInputErrorNamingTheFile) {
     EXPECT_NE(m.find("'" + text + "' is not a STEP file"), std::string::npos) << m;
     // The right header but nothing after it.
     const std::string empty = outputPath("header_only.stp");
-    fixtures::writeText(empty, "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\nENDSEC;\nEND-ISO-10303-21;\n");
+    fixtures::writeText(empty,
+                        "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\nENDSEC;\nEND-ISO-10303-21;\n");
     m = messageOf([&] { readStep(empty); });
     EXPECT_NE(m.find(empty), std::string::npos) << m;
     // An unknown schema is refused before anything is written.

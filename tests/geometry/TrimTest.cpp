@@ -1,7 +1,5 @@
 // Trimming loops in parameter space (geometry/Trim.h), length units (geometry/Units.h) and the
 // watertightness of trimmed sets (geometry/Topology.h boundaryGaps).
-#include "geometry/Trim.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +9,7 @@
 #include "geometry/EnclosedVolume.h"
 #include "geometry/PatchSet.h"
 #include "geometry/Topology.h"
+#include "geometry/Trim.h"
 #include "geometry/Units.h"
 
 using namespace aero;
@@ -53,7 +52,8 @@ TEST(Trim, ReversingIsExactAndTraversesTheOtherWay) {
     const TrimCurve r = reversed(c);
     EXPECT_EQ(r.first, -3.25);
     EXPECT_EQ(r.last, -0.5);
-    for (const auto& [a, b] : {std::pair{startPoint(r), endPoint(c)}, std::pair{endPoint(r), startPoint(c)}}) {
+    for (const auto& [a, b] :
+         {std::pair{startPoint(r), endPoint(c)}, std::pair{endPoint(r), startPoint(c)}}) {
         EXPECT_NEAR(a[0], b[0], 1e-15);
         EXPECT_NEAR(a[1], b[1], 1e-15);
     }
@@ -73,7 +73,7 @@ TEST(Trim, AreasOrientationAndContainment) {
     trim.outer = rectangleLoop(0.1, 0.9, 0.2, 0.8);
     trim.holes.push_back({{reversed(circle({0.5, 0.5}, 0.2))}});
     EXPECT_NO_THROW(validate(trim, p, "patch 1"));
-    EXPECT_DOUBLE_EQ(signedArea(trim.outer), 0.8 * 0.6);  // counter-clockwise
+    EXPECT_DOUBLE_EQ(signedArea(trim.outer), 0.8 * 0.6);                      // counter-clockwise
     EXPECT_NEAR(signedArea(trim.holes[0]), -std::numbers::pi * 0.04, 1e-15);  // clockwise
     const TrimPolygons poly = polygonize(trim, p);
     EXPECT_GT(signedArea(poly.loops[0]), 0);
@@ -102,19 +102,27 @@ TEST(Trim, ValidationNamesThePatchAndTheLoop) {
     PatchTrim open;
     open.outer = rectangleLoop(0.1, 0.9, 0.2, 0.8);
     open.outer.curves.pop_back();
-    EXPECT_NE(message(open).find("patch 3 of 'f.igs', outer trim loop: not closed"), std::string::npos) << message(open);
+    EXPECT_NE(message(open).find("patch 3 of 'f.igs', outer trim loop: not closed"),
+              std::string::npos)
+        << message(open);
     PatchTrim outside;
     outside.holes.push_back(rectangleLoop(0.5, 1.2, 0.2, 0.8));
-    EXPECT_NE(message(outside).find("trim hole 1: leaves the patch's parameter rectangle"), std::string::npos) << message(outside);
+    EXPECT_NE(message(outside).find("trim hole 1: leaves the patch's parameter rectangle"),
+              std::string::npos)
+        << message(outside);
     PatchTrim lifted;
     lifted.outer = rectangleLoop(0.1, 0.9, 0.2, 0.8);
     lifted.outer.curves[2].curve.points[2] = 0.5;
-    EXPECT_NE(message(lifted).find("outer trim loop curve 3: control point 0 has a third coordinate"), std::string::npos)
+    EXPECT_NE(
+        message(lifted).find("outer trim loop curve 3: control point 0 has a third coordinate"),
+        std::string::npos)
         << message(lifted);
     PatchTrim range;
     range.outer = rectangleLoop(0.1, 0.9, 0.2, 0.8);
     range.outer.curves[0].last = 2.0;
-    EXPECT_NE(message(range).find("curve 1: range [0, 2] is empty or outside the curve's knots"), std::string::npos) << message(range);
+    EXPECT_NE(message(range).find("curve 1: range [0, 2] is empty or outside the curve's knots"),
+              std::string::npos)
+        << message(range);
     // In a set: the set names the patch; the mesh and the volume refuse trimmed patches by name.
     PatchSet set;
     set.source = "f.igs";
@@ -128,7 +136,9 @@ TEST(Trim, ValidationNamesThePatchAndTheLoop) {
         enclosedVolume(set);
         FAIL();
     } catch (const GeometryError& e) {
-        EXPECT_STREQ(e.what(), "the enclosed volume needs untrimmed patches: patch 2 ('right') of 'f.igs' is trimmed");
+        EXPECT_STREQ(
+            e.what(),
+            "the enclosed volume needs untrimmed patches: patch 2 ('right') of 'f.igs' is trimmed");
     }
     set.trims.pop_back();
     EXPECT_THROW(validate(set), GeometryError);  // one trim for two patches
@@ -143,7 +153,8 @@ TEST(Trim, TrimmedBoundingBoxAndBoundaryGaps) {
     set.trims[0].outer.curves = {circle({0.5, 0.5}, 0.3)};
     set.trims[1].holes.push_back({{reversed(circle({0.5, 0.5}, 0.3))}});
     validate(set);
-    const BoundingBox disc = surfaceBoundingBox(PatchSet{{set.patches[0]}, {}, {}, {set.trims[0]}, {}});
+    const BoundingBox disc =
+        surfaceBoundingBox(PatchSet{{set.patches[0]}, {}, {}, {set.trims[0]}, {}});
     EXPECT_NEAR(disc.min[0], 0.2, 1e-12);
     EXPECT_NEAR(disc.max[0], 0.8, 1e-12);
     const BoundaryGaps gaps = boundaryGaps(set);

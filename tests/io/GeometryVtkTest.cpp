@@ -1,7 +1,7 @@
 // Geometry blocks for ParaView: trimmed sets carry an "inside_trim" point field.
-#include "io/GeometryVtk.h"
-
 #include <gtest/gtest.h>
+
+#include "io/GeometryVtk.h"
 
 using namespace aero;
 

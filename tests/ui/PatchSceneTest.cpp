@@ -68,9 +68,12 @@ aero::geometry::PatchSet trimmedPlanes() {
 }
 
 double triangleArea(const std::vector<double>& x, int a, int b, int c) {
-    const double ux = x[3 * b] - x[3 * a], uy = x[3 * b + 1] - x[3 * a + 1], uz = x[3 * b + 2] - x[3 * a + 2];
-    const double vx = x[3 * c] - x[3 * a], vy = x[3 * c + 1] - x[3 * a + 1], vz = x[3 * c + 2] - x[3 * a + 2];
-    return 0.5 * std::sqrt(std::pow(uy * vz - uz * vy, 2) + std::pow(uz * vx - ux * vz, 2) + std::pow(ux * vy - uy * vx, 2));
+    const double ux = x[3 * b] - x[3 * a], uy = x[3 * b + 1] - x[3 * a + 1],
+                 uz = x[3 * b + 2] - x[3 * a + 2];
+    const double vx = x[3 * c] - x[3 * a], vy = x[3 * c + 1] - x[3 * a + 1],
+                 vz = x[3 * c + 2] - x[3 * a + 2];
+    return 0.5 * std::sqrt(std::pow(uy * vz - uz * vy, 2) + std::pow(uz * vx - ux * vz, 2) +
+                           std::pow(ux * vy - uy * vx, 2));
 }
 
 }  // namespace
@@ -84,8 +87,9 @@ class PatchSceneTest : public QObject {
   private slots:
     void initTestCase() {
         if (!canRender_)
-            QSKIP("test_ui needs an X display: DISPLAY is not set (or QT_QPA_PLATFORM is offscreen). "
-                  "Run it under xvfb-run -a -s \"-screen 0 1280x800x24\".");
+            QSKIP(
+                "test_ui needs an X display: DISPLAY is not set (or QT_QPA_PLATFORM is offscreen). "
+                "Run it under xvfb-run -a -s \"-screen 0 1280x800x24\".");
         MainWindow::Options options;
         options.autosave = false;
         options.recentFiles = false;
@@ -100,12 +104,14 @@ class PatchSceneTest : public QObject {
         QTemporaryDir dir;
         QVERIFY(dir.isValid());
         const aero::geometry::PatchSet set = trimmedPlanes();
-        const QString iges = dir.filePath(QStringLiteral("trimmed.igs")), step = dir.filePath(QStringLiteral("trimmed.step"));
+        const QString iges = dir.filePath(QStringLiteral("trimmed.igs")),
+                      step = dir.filePath(QStringLiteral("trimmed.step"));
         aero::cad::writeIges(set, iges.toStdString());
         aero::cad::writeStep(set, step.toStdString());
         for (const QString& path : {iges, step}) {
             QString error;
-            QVERIFY2(window_->loadFile(path, &error), qPrintable(path + QStringLiteral(": ") + error));
+            QVERIFY2(window_->loadFile(path, &error),
+                     qPrintable(path + QStringLiteral(": ") + error));
             const aero::ui::PatchScene& scene = window_->scene();
             QCOMPARE(scene.patchCount(), 2);
             // The trimmed patch: every drawn point inside the outer loop and outside the hole
@@ -115,15 +121,19 @@ class PatchSceneTest : public QObject {
             QVERIFY(!mesh.triangles.empty());
             for (std::size_t k = 0; k < mesh.uv.size(); k += 2) {
                 const double u = mesh.uv[k], v = mesh.uv[k + 1];
-                QVERIFY2(u > 0.1 - 1e-9 && u < 0.9 + 1e-9 && v > 0.1 - 1e-9 && v < 0.9 + 1e-9, "a point outside the outer loop");
+                QVERIFY2(u > 0.1 - 1e-9 && u < 0.9 + 1e-9 && v > 0.1 - 1e-9 && v < 0.9 + 1e-9,
+                         "a point outside the outer loop");
                 QVERIFY2(std::hypot(u - 0.5, v - 0.5) > 0.2 - 1e-3, "a point in the hole");
-                QVERIFY(std::abs(mesh.points[3 * (k / 2)] - 2 * u) < 1e-6);  // the plane: x = 2u (VTK keeps floats)
+                QVERIFY(std::abs(mesh.points[3 * (k / 2)] - 2 * u) <
+                        1e-6);  // the plane: x = 2u (VTK keeps floats)
             }
             double area = 0;
             for (std::size_t t = 0; t < mesh.triangles.size(); t += 3)
-                area += triangleArea(mesh.points, mesh.triangles[t], mesh.triangles[t + 1], mesh.triangles[t + 2]);
+                area += triangleArea(mesh.points, mesh.triangles[t], mesh.triangles[t + 1],
+                                     mesh.triangles[t + 2]);
             const double exact = 2 * (0.64 - std::numbers::pi * 0.04);
-            QVERIFY2(std::abs(area - exact) < 2e-3 * exact, qPrintable(QStringLiteral("area %1, expected %2").arg(area).arg(exact)));
+            QVERIFY2(std::abs(area - exact) < 2e-3 * exact,
+                     qPrintable(QStringLiteral("area %1, expected %2").arg(area).arg(exact)));
             // Its edges are the two trim loops, the hole's on the circle.
             QCOMPARE(static_cast<int>(mesh.edges.size()), 2);
             for (std::size_t k = 0; k < mesh.edges[1].size(); k += 3) {
@@ -156,7 +166,8 @@ class PatchSceneTest : public QObject {
         aero::geometry::PatchSet set = trimmedPlanes();
         scene.setPatchSet(set);
         const auto before = scene.surfaceMesh(0);
-        for (std::size_t k = 2; k < set.patches[0].points.size(); k += 3) set.patches[0].points[k] += 0.5;  // lift it
+        for (std::size_t k = 2; k < set.patches[0].points.size(); k += 3)
+            set.patches[0].points[k] += 0.5;  // lift it
         scene.updatePatches(set, {0});
         const auto after = scene.surfaceMesh(0);
         QCOMPARE(after.uv, before.uv);
