@@ -53,16 +53,23 @@ std::string lowerExtension(const std::string& path) {
     return QFileInfo(fromStd(path)).suffix().toLower().toStdString();
 }
 
-// Patch set from .json (native), .igs/.iges; other names are sniffed (JSON starts with '{').
+// Patch set from .json (native), .igs/.iges or .stp/.step (other names are sniffed), in the file's
+// unit and with its trims. `message` summarizes what the reader did when it is worth saying.
 geometry::PatchSet loadGeometry(const std::string& path, QString* message) {
-    cad::IgesReadReport report;
+    cad::ReadReport report;
     geometry::PatchSet set = study::loadGeometry(path, &report);
-    if (message && (report.converted > 0 || report.trimmed > 0 || !report.warnings.empty())) {
-        *message = QObject::tr("IGES: %1 faces, %2 converted to B-splines, %3 trimmed (untrimmed surface shown), %4 warnings")
-                       .arg(report.faces)
-                       .arg(report.converted)
-                       .arg(report.trimmed)
-                       .arg(static_cast<int>(report.warnings.size()));
+    const int converted = report.count(cad::SurfaceOutcome::Converted), ignored = report.count(cad::SurfaceOutcome::Ignored);
+    if (message && (converted > 0 || ignored > 0 || set.trimmedCount() > 0 || !report.warnings.empty() || !set.unit.empty())) {
+        QString m = QObject::tr("%1, unit %2: %3 patches (%4 trimmed)")
+                        .arg(QString::fromStdString(report.format))
+                        .arg(set.unit.empty() ? QObject::tr("not stated") : QString::fromStdString(set.unit))
+                        .arg(set.size())
+                        .arg(set.trimmedCount());
+        if (converted > 0) m += QObject::tr("; %1 converted to NURBS").arg(converted);
+        if (ignored > 0) m += QObject::tr("; %1 entities ignored").arg(ignored);
+        if (!report.warnings.empty())
+            m += QObject::tr("; %1 warning(s): %2").arg(static_cast<int>(report.warnings.size())).arg(QString::fromStdString(report.warnings.front()));
+        *message = m;
     }
     return set;
 }
@@ -430,12 +437,10 @@ void Document::exportGeometry(const QString& qpath) const {
     const std::string path = toStd(qpath);
     const std::string ext = lowerExtension(path);
     const geometry::PatchSet deformed = model() ? model()->deformWith(committed_) : *baseline_;
-    if (ext == "igs" || ext == "iges")
-        cad::writeIges(deformed, path);
-    else if (ext == "json")
-        io::writePatchSetJson(deformed, path);
+    if (ext == "igs" || ext == "iges" || ext == "stp" || ext == "step" || ext == "json")
+        study::saveGeometry(deformed, path);  // in the geometry's unit, trims kept (FFD leaves them valid)
     else
-        throw InputError("'" + path + "': unknown extension (use .igs, .iges or .json)");
+        throw InputError("'" + path + "': unknown extension (use .igs, .iges, .stp, .step or .json)");
 }
 
 void Document::exportVtk(const QString& qpath) const {

@@ -18,11 +18,15 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <unordered_map>
 #include <span>
 #include <vector>
 
 #include "common/Error.h"
+#include "geometry/Trim.h"
 #include "nurbs/Surface.h"
 
 namespace aero::ui {
@@ -74,47 +78,204 @@ std::array<unsigned char, 3> patchColor(int patch, bool tint) {
     return c;
 }
 
-// Samples of one patch: n x n surface points with oriented unit normals, 4 boundary curves of m
-// points each, and the control points. Plain arrays, filled without touching VTK (so patches
-// can be sampled in parallel).
+// Where a patch is sampled, in its parameter space: surface points, the triangles between them
+// (counter-clockwise in (u, v)) and the boundary polylines. An untrimmed patch is an n x n grid
+// with its four edges; a trimmed one is clipped to its trim region (marching squares on a finer
+// grid, crossings found by bisection against the trim's polygons) and its edges are the trim
+// loops. It depends on the parameter space only, so deformations (which move control points)
+// keep it: only the points are evaluated again.
+struct Tessellation {
+    bool grid = true;                         // n x n grid: sampled with nurbs::sampleGrid
+    std::vector<double> uv;                   // 2 per surface point
+    std::vector<std::array<int, 3>> triangles;
+    std::vector<double> edgeUv;               // 2 per edge point
+    std::vector<std::vector<int>> edgeLines;  // polylines into the edge points
+    std::size_t trimKey = 0;                  // hash of the trim it was made for
+    int points() const { return static_cast<int>(uv.size() / 2); }
+    int edgePoints() const { return static_cast<int>(edgeUv.size() / 2); }
+};
+
+std::size_t hashTrim(const geometry::PatchTrim* trim) {
+    if (!trim || !trim->trimmed()) return 0;
+    std::size_t h = 1469598103934665603ULL;
+    auto mix = [&](double x) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &x, sizeof bits);
+        h = (h ^ bits) * 1099511628211ULL;
+    };
+    std::vector<const geometry::TrimLoop*> loops{&trim->outer};
+    for (const auto& l : trim->holes) loops.push_back(&l);
+    for (const auto* l : loops) {
+        mix(static_cast<double>(l->curves.size()));
+        for (const auto& c : l->curves) {
+            for (double x : c.curve.points) mix(x);
+            for (double x : c.curve.knots) mix(x);
+            for (double x : c.curve.weights) mix(x);
+            mix(c.first);
+            mix(c.last);
+        }
+    }
+    return h == 0 ? 1 : h;
+}
+
+Tessellation gridTessellation(const Patch& s, int n, int m) {
+    Tessellation t;
+    const Range ru = parameterRange(s.knotsU, s.degreeU, s.countU);
+    const Range rv = parameterRange(s.knotsV, s.degreeV, s.countV);
+    const std::vector<double> us = uniform(ru, n), vs = uniform(rv, n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) t.uv.insert(t.uv.end(), {us[static_cast<size_t>(i)], vs[static_cast<size_t>(j)]});
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const int a = i + n * j, b = a + 1, c = a + 1 + n, d = a + n;
+            t.triangles.push_back({a, b, c});
+            t.triangles.push_back({a, c, d});
+        }
+    const std::vector<double> ue = uniform(ru, m), ve = uniform(rv, m);
+    for (int e = 0; e < 4; ++e) {
+        std::vector<int> line;
+        for (int k = 0; k < m; ++k) {
+            const double u = e == 0 || e == 2 ? ue[static_cast<size_t>(k)] : (e == 1 ? ru.last : ru.first);
+            const double v = e == 1 || e == 3 ? ve[static_cast<size_t>(k)] : (e == 2 ? rv.last : rv.first);
+            line.push_back(t.edgePoints());
+            t.edgeUv.insert(t.edgeUv.end(), {u, v});
+        }
+        t.edgeLines.push_back(std::move(line));
+    }
+    return t;
+}
+
+Tessellation trimmedTessellation(const Patch& s, const geometry::PatchTrim& trim, int n) {
+    Tessellation t;
+    t.grid = false;
+    t.trimKey = hashTrim(&trim);
+    const geometry::TrimPolygons poly = geometry::polygonize(trim, s, 24);
+    const Range ru = parameterRange(s.knotsU, s.degreeU, s.countU);
+    const Range rv = parameterRange(s.knotsV, s.degreeV, s.countV);
+    const std::vector<double> us = uniform(ru, n), vs = uniform(rv, n);
+    auto inside = [&](double u, double v) { return geometry::contains(poly, u, v); };
+    std::vector<char> in(static_cast<size_t>(n) * static_cast<size_t>(n));
+    std::vector<int> id(in.size(), -1);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) in[static_cast<size_t>(i + n * j)] = inside(us[static_cast<size_t>(i)], vs[static_cast<size_t>(j)]) ? 1 : 0;
+    auto corner = [&](int i, int j) {
+        const size_t k = static_cast<size_t>(i + n * j);
+        if (id[k] < 0) {
+            id[k] = t.points();
+            t.uv.insert(t.uv.end(), {us[static_cast<size_t>(i)], vs[static_cast<size_t>(j)]});
+        }
+        return id[k];
+    };
+    // Crossing points on grid edges, shared by the two cells of an edge.
+    std::unordered_map<long long, int> crossings;
+    auto crossing = [&](int i0, int j0, int i1, int j1) {
+        const long long key = (static_cast<long long>(std::min(i0 + n * j0, i1 + n * j1)) << 1) | (j0 != j1 ? 1 : 0);
+        if (auto it = crossings.find(key); it != crossings.end()) return it->second;
+        double a[2] = {us[static_cast<size_t>(i0)], vs[static_cast<size_t>(j0)]}, b[2] = {us[static_cast<size_t>(i1)], vs[static_cast<size_t>(j1)]};
+        if (!in[static_cast<size_t>(i0 + n * j0)]) std::swap(a, b);  // a inside, b outside
+        for (int it = 0; it < 30; ++it) {
+            const double m[2] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+            if (inside(m[0], m[1])) {
+                a[0] = m[0];
+                a[1] = m[1];
+            } else {
+                b[0] = m[0];
+                b[1] = m[1];
+            }
+        }
+        const int k = t.points();
+        t.uv.insert(t.uv.end(), {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])});
+        crossings.emplace(key, k);
+        return k;
+    };
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const int ci[4] = {i, i + 1, i + 1, i}, cj[4] = {j, j, j + 1, j + 1};
+            bool inC[4];
+            int count = 0;
+            for (int c = 0; c < 4; ++c) count += (inC[c] = in[static_cast<size_t>(ci[c] + n * cj[c])] != 0) ? 1 : 0;
+            if (count == 0) continue;
+            if (count == 4) {
+                const int a = corner(i, j), b = corner(i + 1, j), c = corner(i + 1, j + 1), d = corner(i, j + 1);
+                t.triangles.push_back({a, b, c});
+                t.triangles.push_back({a, c, d});
+                continue;
+            }
+            // The cell clipped to the region: corners inside and edge crossings, counter-clockwise.
+            std::vector<int> polygon;
+            std::vector<char> isCorner;
+            for (int c = 0; c < 4; ++c) {
+                const int d = (c + 1) % 4;
+                if (inC[c]) {
+                    polygon.push_back(corner(ci[c], cj[c]));
+                    isCorner.push_back(1);
+                }
+                if (inC[c] != inC[d]) {
+                    polygon.push_back(crossing(ci[c], cj[c], ci[d], cj[d]));
+                    isCorner.push_back(0);
+                }
+            }
+            const bool saddle = count == 2 && inC[0] == inC[2];
+            if (saddle && !inside(0.5 * (us[static_cast<size_t>(i)] + us[static_cast<size_t>(i + 1)]),
+                                  0.5 * (vs[static_cast<size_t>(j)] + vs[static_cast<size_t>(j + 1)]))) {
+                // Two separate corners of the region: a triangle at each, between its crossings.
+                const std::size_t np = polygon.size();
+                for (std::size_t k = 0; k < np; ++k)
+                    if (isCorner[k]) t.triangles.push_back({polygon[(k + np - 1) % np], polygon[k], polygon[(k + 1) % np]});
+                continue;
+            }
+            for (std::size_t k = 1; k + 1 < polygon.size(); ++k) t.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+        }
+    // The trim loops (closed polylines) are the patch's edges.
+    for (const auto& loop : poly.loops) {
+        std::vector<int> line;
+        for (const geometry::Point2& p : loop) {
+            line.push_back(t.edgePoints());
+            t.edgeUv.insert(t.edgeUv.end(), {p[0], p[1]});
+        }
+        if (!line.empty()) line.push_back(line.front());
+        t.edgeLines.push_back(std::move(line));
+    }
+    return t;
+}
+
+// Evaluated samples of one patch: surface points with oriented unit normals, edge points.
+// Plain arrays, filled without touching VTK (so patches can be sampled in parallel).
 struct PatchSamples {
-    std::vector<double> xyz;      // 3 n^2, u fastest
-    std::vector<float> normals;   // 3 n^2
-    std::vector<double> edges;    // 3 * 4m: edges 0..3 as in nurbs::boundaryCurve
+    std::vector<double> xyz;     // 3 per surface point
+    std::vector<float> normals;  // 3 per surface point
+    std::vector<double> edges;   // 3 per edge point
 };
 
 // Normals are flipped when `flip` is set; with `decide` the patch's orientation is chosen
 // (normals pointing away from `centre` on the whole) and returned in flip.
-void samplePatch(const Patch& s, int n, int m, const Eigen::Vector3d& centre, bool decide, bool& flip,
+void samplePatch(const Patch& s, const Tessellation& t, int n, const Eigen::Vector3d& centre, bool decide, bool& flip,
                  PatchSamples& out) {
     const Range ru = parameterRange(s.knotsU, s.degreeU, s.countU);
     const Range rv = parameterRange(s.knotsV, s.degreeV, s.countV);
-    const std::vector<double> us = uniform(ru, n), vs = uniform(rv, n);
-    const size_t perPatch = static_cast<size_t>(n) * static_cast<size_t>(n);
-    out.xyz.resize(3 * perPatch);
-    out.normals.resize(3 * perPatch);
-    nurbs::sampleGrid(s, us, vs, out.xyz.data());
-    std::vector<Eigen::Vector3d> nrm(perPatch);
+    const size_t count = static_cast<size_t>(t.points());
+    out.xyz.resize(3 * count);
+    out.normals.resize(3 * count);
+    if (t.grid) {
+        const std::vector<double> us = uniform(ru, n), vs = uniform(rv, n);
+        nurbs::sampleGrid(s, us, vs, out.xyz.data());
+    } else if (count > 0) {
+        nurbs::evaluate(s, t.uv, out.xyz.data());
+    }
+    std::vector<Eigen::Vector3d> nrm(count);
     double outward = 0;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const size_t k = static_cast<size_t>(i + n * j);
-            nrm[k] = unitNormal(s, us[static_cast<size_t>(i)], vs[static_cast<size_t>(j)], ru, rv);
-            const Eigen::Vector3d x(out.xyz[3 * k], out.xyz[3 * k + 1], out.xyz[3 * k + 2]);
-            outward += nrm[k].dot(x - centre);
-        }
+    for (size_t k = 0; k < count; ++k) {
+        nrm[k] = unitNormal(s, t.uv[2 * k], t.uv[2 * k + 1], ru, rv);
+        const Eigen::Vector3d x(out.xyz[3 * k], out.xyz[3 * k + 1], out.xyz[3 * k + 2]);
+        outward += nrm[k].dot(x - centre);
+    }
     if (decide) flip = outward < 0;
-    for (size_t k = 0; k < perPatch; ++k) {
+    for (size_t k = 0; k < count; ++k) {
         const Eigen::Vector3d v = flip ? Eigen::Vector3d(-nrm[k]) : nrm[k];
         for (int c = 0; c < 3; ++c) out.normals[3 * k + static_cast<size_t>(c)] = static_cast<float>(v[c]);
     }
-
-    const std::vector<double> ue = uniform(ru, m), ve = uniform(rv, m);
-    const double u0[1] = {ru.first}, u1[1] = {ru.last}, v0[1] = {rv.first}, v1[1] = {rv.last};
-    const std::span<const double> rows[4][2] = {{ue, v0}, {u1, ve}, {ue, v1}, {u0, ve}};
-    out.edges.resize(3 * 4 * static_cast<size_t>(m));
-    for (int e = 0; e < 4; ++e)
-        nurbs::sampleGrid(s, rows[e][0], rows[e][1], out.edges.data() + 3 * static_cast<size_t>(m) * static_cast<size_t>(e));
+    out.edges.resize(3 * static_cast<size_t>(t.edgePoints()));
+    if (t.edgePoints() > 0) nurbs::evaluate(s, t.edgeUv, out.edges.data());
 }
 
 }  // namespace
@@ -129,6 +290,9 @@ struct PatchScene::Impl {
     // Layout of the displayed set (what updatePatches() requires to stay the same).
     std::vector<std::array<int, 2>> netCounts;  // countU, countV per patch
     std::vector<vtkIdType> netOffset;           // first control point of each patch
+    std::vector<Tessellation> tessellation;     // per patch, in parameter space
+    std::vector<vtkIdType> surfaceOffset;       // first surface point of each patch
+    std::vector<vtkIdType> edgeOffset;          // first edge point of each patch
     std::vector<char> flip;                     // orientation chosen at setPatchSet
     std::vector<char> visible;
     std::vector<char> highlighted;
@@ -138,6 +302,8 @@ struct PatchScene::Impl {
     int patches() const { return static_cast<int>(netCounts.size()); }
     int n() const { return options.surfaceSamples; }
     int m() const { return options.edgeSamples; }
+    // Trimmed patches are sampled twice as finely: the trimmed edge follows the grid.
+    int trimmedN() const { return 2 * options.surfaceSamples - 1; }
 
     bool sameLayout(const geometry::PatchSet& set) const {
         if (set.size() != patches()) return false;
@@ -145,24 +311,26 @@ struct PatchScene::Impl {
             const Patch& s = set.patches[static_cast<size_t>(p)];
             if (s.countU != netCounts[static_cast<size_t>(p)][0] || s.countV != netCounts[static_cast<size_t>(p)][1])
                 return false;
+            const std::size_t key = hashTrim(set.trimmed(p) ? &set.trims[static_cast<size_t>(p)] : nullptr);
+            if (key != tessellation[static_cast<size_t>(p)].trimKey) return false;
         }
         return true;
     }
 
     // Writes the samples of patch p into the arrays (which have the full size already).
     void write(int p, const Patch& s, const PatchSamples& smp) {
-        const vtkIdType perPatch = static_cast<vtkIdType>(n()) * n();
-        const vtkIdType base = perPatch * p;
+        const vtkIdType base = surfaceOffset[static_cast<size_t>(p)];
+        const vtkIdType count = static_cast<vtkIdType>(smp.xyz.size() / 3);
         vtkPoints* pts = surfacePoly->GetPoints();
         auto* normals = vtkFloatArray::SafeDownCast(surfacePoly->GetPointData()->GetNormals());
-        for (vtkIdType k = 0; k < perPatch; ++k) {
+        for (vtkIdType k = 0; k < count; ++k) {
             const size_t kk = static_cast<size_t>(k);
             pts->SetPoint(base + k, smp.xyz[3 * kk], smp.xyz[3 * kk + 1], smp.xyz[3 * kk + 2]);
             normals->SetTypedTuple(base + k, smp.normals.data() + 3 * kk);
         }
-        const vtkIdType edgeBase = static_cast<vtkIdType>(4) * m() * p;
+        const vtkIdType edgeBase = edgeOffset[static_cast<size_t>(p)];
         vtkPoints* epts = edgePoly->GetPoints();
-        for (vtkIdType k = 0; k < 4 * static_cast<vtkIdType>(m()); ++k) {
+        for (vtkIdType k = 0; k < static_cast<vtkIdType>(smp.edges.size() / 3); ++k) {
             const size_t kk = static_cast<size_t>(k);
             epts->SetPoint(edgeBase + k, smp.edges[3 * kk], smp.edges[3 * kk + 1], smp.edges[3 * kk + 2]);
         }
@@ -180,7 +348,8 @@ struct PatchScene::Impl {
         for (int i = 0; i < count; ++i) {
             const int p = list[static_cast<size_t>(i)];
             bool f = flip[static_cast<size_t>(p)] != 0;
-            samplePatch(set.patches[static_cast<size_t>(p)], n(), m(), centre, decide, f, samples[static_cast<size_t>(i)]);
+            samplePatch(set.patches[static_cast<size_t>(p)], tessellation[static_cast<size_t>(p)], n(), centre, decide, f,
+                        samples[static_cast<size_t>(i)]);
             flip[static_cast<size_t>(p)] = f ? 1 : 0;
         }
         for (int i = 0; i < count; ++i) {
@@ -199,24 +368,21 @@ struct PatchScene::Impl {
     // Cells of the visible patches: triangles wound like the chosen normals, edge polylines,
     // control-point vertices and net lines.
     void rebuildCells() {
-        const int N = n(), M = m();
         vtkNew<vtkCellArray> triangles, lines, verts, netLines;
+        std::vector<vtkIdType> ids;
         for (int p = 0; p < patches(); ++p) {
             if (!visible[static_cast<size_t>(p)]) continue;
-            const vtkIdType base = static_cast<vtkIdType>(N) * N * p;
+            const Tessellation& t = tessellation[static_cast<size_t>(p)];
+            const vtkIdType base = surfaceOffset[static_cast<size_t>(p)];
             const bool f = flip[static_cast<size_t>(p)] != 0;
-            for (int j = 0; j + 1 < N; ++j)
-                for (int i = 0; i + 1 < N; ++i) {
-                    const vtkIdType a = base + i + static_cast<vtkIdType>(N) * j;
-                    const vtkIdType b = a + 1, c = a + 1 + N, d = a + N;
-                    const vtkIdType t0[3] = {a, f ? c : b, f ? b : c}, t1[3] = {a, f ? d : c, f ? c : d};
-                    triangles->InsertNextCell(3, t0);
-                    triangles->InsertNextCell(3, t1);
-                }
-            std::vector<vtkIdType> ids(static_cast<size_t>(M));
-            for (int e = 0; e < 4; ++e) {
-                for (int k = 0; k < M; ++k) ids[static_cast<size_t>(k)] = static_cast<vtkIdType>(4) * M * p + static_cast<vtkIdType>(M) * e + k;
-                lines->InsertNextCell(M, ids.data());
+            for (const auto& tri : t.triangles) {
+                const vtkIdType c[3] = {base + tri[0], base + (f ? tri[2] : tri[1]), base + (f ? tri[1] : tri[2])};
+                triangles->InsertNextCell(3, c);
+            }
+            for (const auto& line : t.edgeLines) {
+                ids.clear();
+                for (int k : line) ids.push_back(edgeOffset[static_cast<size_t>(p)] + k);
+                lines->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
             }
             const int cu = netCounts[static_cast<size_t>(p)][0], cv = netCounts[static_cast<size_t>(p)][1];
             const vtkIdType nb = netOffset[static_cast<size_t>(p)];
@@ -244,11 +410,11 @@ struct PatchScene::Impl {
     void recolor() {
         auto* colors = vtkUnsignedCharArray::SafeDownCast(surfacePoly->GetPointData()->GetScalars());
         if (!colors) return;
-        const vtkIdType perPatch = static_cast<vtkIdType>(n()) * n();
         for (int p = 0; p < patches(); ++p) {
             std::array<unsigned char, 3> rgb = patchColor(p, options.tintPatches);
             if (highlighted[static_cast<size_t>(p)]) rgb = {246, 196, 120};  // selected: warm amber
-            for (vtkIdType k = 0; k < perPatch; ++k) colors->SetTypedTuple(perPatch * p + k, rgb.data());
+            const vtkIdType base = surfaceOffset[static_cast<size_t>(p)];
+            for (vtkIdType k = 0; k < tessellation[static_cast<size_t>(p)].points(); ++k) colors->SetTypedTuple(base + k, rgb.data());
         }
         colors->Modified();
         surfacePoly->Modified();
@@ -323,19 +489,27 @@ void PatchScene::setPatchSet(const geometry::PatchSet& set) {
     const int P = set.size();
     d.netCounts.assign(static_cast<size_t>(P), {0, 0});
     d.netOffset.assign(static_cast<size_t>(P), 0);
-    vtkIdType controls = 0;
+    d.tessellation.assign(static_cast<size_t>(P), {});
+    d.surfaceOffset.assign(static_cast<size_t>(P), 0);
+    d.edgeOffset.assign(static_cast<size_t>(P), 0);
+    vtkIdType controls = 0, surfacePoints = 0, edgePoints = 0;
     for (int p = 0; p < P; ++p) {
         const Patch& s = set.patches[static_cast<size_t>(p)];
+        d.tessellation[static_cast<size_t>(p)] = set.trimmed(p) ? trimmedTessellation(s, set.trims[static_cast<size_t>(p)], d.trimmedN())
+                                                                : gridTessellation(s, d.n(), d.m());
         d.netCounts[static_cast<size_t>(p)] = {s.countU, s.countV};
         d.netOffset[static_cast<size_t>(p)] = controls;
+        d.surfaceOffset[static_cast<size_t>(p)] = surfacePoints;
+        d.edgeOffset[static_cast<size_t>(p)] = edgePoints;
         controls += s.controlCount();
+        surfacePoints += d.tessellation[static_cast<size_t>(p)].points();
+        edgePoints += d.tessellation[static_cast<size_t>(p)].edgePoints();
     }
     d.flip.assign(static_cast<size_t>(P), 0);
     d.visible.assign(static_cast<size_t>(P), 1);
     d.highlighted.assign(static_cast<size_t>(P), 0);
     d.controlPoints = static_cast<int>(controls);
 
-    const vtkIdType surfacePoints = static_cast<vtkIdType>(d.n()) * d.n() * P;
     d.surfacePoly = vtkSmartPointer<vtkPolyData>::New();
     vtkNew<vtkPoints> sp;
     sp->SetDataTypeToFloat();
@@ -355,7 +529,7 @@ void PatchScene::setPatchSet(const geometry::PatchSet& set) {
     d.edgePoly = vtkSmartPointer<vtkPolyData>::New();
     vtkNew<vtkPoints> ep;
     ep->SetDataTypeToFloat();
-    ep->SetNumberOfPoints(static_cast<vtkIdType>(4) * d.m() * P);
+    ep->SetNumberOfPoints(edgePoints);
     d.edgePoly->SetPoints(ep);
 
     d.netPoly = vtkSmartPointer<vtkPolyData>::New();
@@ -395,6 +569,9 @@ void PatchScene::clear() {
     d_->netMapper->SetInputData(vtkSmartPointer<vtkPolyData>::New());
     d_->netCounts.clear();
     d_->netOffset.clear();
+    d_->tessellation.clear();
+    d_->surfaceOffset.clear();
+    d_->edgeOffset.clear();
     d_->flip.clear();
     d_->visible.clear();
     d_->highlighted.clear();
@@ -445,6 +622,30 @@ int PatchScene::patchCount() const {
 }
 int PatchScene::controlPointCount() const {
     return d_->controlPoints;
+}
+
+PatchScene::SurfaceMesh PatchScene::surfaceMesh(int patch) const {
+    SurfaceMesh mesh;
+    if (patch < 0 || patch >= d_->patches() || !d_->surfacePoly) return mesh;
+    const Tessellation& t = d_->tessellation[static_cast<size_t>(patch)];
+    const vtkIdType base = d_->surfaceOffset[static_cast<size_t>(patch)];
+    for (vtkIdType k = 0; k < t.points(); ++k) {
+        double x[3];
+        d_->surfacePoly->GetPoints()->GetPoint(base + k, x);
+        mesh.points.insert(mesh.points.end(), {x[0], x[1], x[2]});
+    }
+    mesh.uv = t.uv;
+    for (const auto& tri : t.triangles) mesh.triangles.insert(mesh.triangles.end(), {tri[0], tri[1], tri[2]});
+    for (const auto& line : t.edgeLines) {
+        std::vector<double> xyz;
+        for (int k : line) {
+            double x[3];
+            d_->edgePoly->GetPoints()->GetPoint(d_->edgeOffset[static_cast<size_t>(patch)] + k, x);
+            xyz.insert(xyz.end(), {x[0], x[1], x[2]});
+        }
+        mesh.edges.push_back(std::move(xyz));
+    }
+    return mesh;
 }
 
 std::array<double, 6> PatchScene::bounds() const {

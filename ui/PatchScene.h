@@ -1,14 +1,17 @@
 #pragma once
 // The VTK representation of a patch set: three actors added to one renderer,
 //   surfaces       every patch sampled on a structured grid, smooth-shaded with analytic
-//                  normals (Su x Sv), each patch oriented away from the set's centre;
-//   patch edges    the four boundary curves of every patch, dark lines;
+//                  normals (Su x Sv), each patch oriented away from the set's centre; a
+//                  trimmed patch only inside its trim loops (the grid clipped in parameter
+//                  space, twice as fine);
+//   patch edges    the four boundary curves of every patch (its trim loops when trimmed), dark lines;
 //   control nets   control points and the lines of each net (hidden by default).
 // No VTK type is exposed here beyond the renderer it draws into.
 //
-// Deformations keep a patch set's layout (patch count, control-net sizes): updatePatches()
+// Deformations keep a patch set's layout (patch count, control-net sizes, trims): updatePatches()
 // then re-samples only the given patches and overwrites their points in place (no new VTK
-// pipeline, no new cells), which is what keeps dragging interactive.
+// pipeline, no new cells), which is what keeps dragging interactive. Trims live in parameter
+// space, so a trimmed patch's tessellation survives any deformation: only its points move.
 //
 // GUI thread only. The scene does not render by itself: after changing it, ask the viewport
 // for a render. Removing actors releases their GL resources, so destroy the scene while its
@@ -63,6 +66,16 @@ class PatchScene {
 
     int patchCount() const;
     int controlPointCount() const;  // non-unique, as geometry::PatchSet::controlPointCount()
+
+    /// What is drawn for one patch (for tests and inspection): surface points (3 per point) with
+    /// their parameters (2 per point), triangles (3 point indices each, counter-clockwise in
+    /// (u, v)), and the edge polylines (3 per point). Empty for an invalid index.
+    struct SurfaceMesh {
+        std::vector<double> points, uv;
+        std::vector<int> triangles;
+        std::vector<std::vector<double>> edges;
+    };
+    SurfaceMesh surfaceMesh(int patch) const;
     bool empty() const { return patchCount() == 0; }
 
     /// Axis-aligned bounds {xmin, xmax, ymin, ymax, zmin, zmax} of the sampled surfaces and

@@ -33,7 +33,12 @@ std::string extension(const std::string& path) {
     return lower(path.substr(dot + 1));
 }
 
-geometry::PatchSet loadPatchSet(const std::string& path) { return study::loadGeometry(path); }
+geometry::PatchSet loadPatchSet(const std::string& path) {
+    cad::ReadReport report;
+    geometry::PatchSet set = study::loadGeometry(path, &report);
+    for (const std::string& w : report.warnings) std::cerr << "aeroform-cli: warning: '" << path << "': " << w << "\n";
+    return set;
+}
 
 void savePatchSet(const geometry::PatchSet& set, const std::string& path) { study::saveGeometry(set, path); }
 

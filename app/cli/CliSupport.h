@@ -21,9 +21,10 @@ using Args = std::vector<std::string>;
 bool hasFlag(const Args& a, const char* flag);
 std::string extension(const std::string& path);
 
-/// Reads a patch set from .json (native) or .igs/.iges; other extensions are sniffed.
+/// Reads a patch set from .json (native), .igs/.iges or .stp/.step; other extensions are sniffed.
+/// The reader's warnings (changes to the geometry) go to stderr.
 geometry::PatchSet loadPatchSet(const std::string& path);
-/// Writes .json or .igs/.iges by extension; InputError for anything else.
+/// Writes .json, .igs/.iges or .stp/.step by extension; InputError for anything else.
 void savePatchSet(const geometry::PatchSet& set, const std::string& path);
 
 /// Splits args into positionals and options; `flags` take no value, `valued` take one.

@@ -92,8 +92,16 @@ int runDeform(const std::string& casePath, bool json, bool list) {
         for (const auto& f : emb.failures) outside += f.outside ? 1 : 0;
         const int notConverged = static_cast<int>(emb.failures.size()) - outside;
         const geometry::PatchSet& deformed = e.shape;
-        const double volume0 = geometry::enclosedVolume(set), volume = geometry::enclosedVolume(deformed);
-        progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
+        // The enclosed volume integrates over whole patches: not computed for trimmed ones (a
+        // min_volume constraint then fails in enclosedVolume with the patch named).
+        const bool trimmed = set.trimmedCount() > 0 && !c.minVolume;
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        const double volume0 = trimmed ? nan : geometry::enclosedVolume(set);
+        const double volume = trimmed ? nan : geometry::enclosedVolume(deformed);
+        if (trimmed)
+            progress(false, "enclosed volume not computed (%d trimmed patches)", set.trimmedCount());
+        else
+            progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
 
         // Constraints, reported (deform does not enforce them; the optimizer will).
         nlohmann::ordered_json constraints;
@@ -155,8 +163,8 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             j["injective"] = true;  // a non-injective lattice is an InvalidShape status: refused above
             j["min_jacobian"] = minJacobian;
             j["lattices"] = lattices;
-            j["volume"] = volume;
-            j["initial_volume"] = volume0;
+            j["volume"] = trimmed ? nlohmann::ordered_json() : nlohmann::ordered_json(volume);
+            j["initial_volume"] = trimmed ? nlohmann::ordered_json() : nlohmann::ordered_json(volume0);
             j["constraints"] = constraints;
             j["outputs"] = outputs;
             j["seconds"] = seconds(t0);

@@ -80,7 +80,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         const auto t0 = std::chrono::steady_clock::now();
         const io::CaseFile c = io::readCase(casePath);
         if (!c.flow.present) say("the case has no \"flow\" section: Mach 0.5, alpha 0 and the default solver options");
-        geometry::PatchSet set = study::loadGeometry(c.geometry);
+        geometry::PatchSet set = loadPatchSet(c.geometry);
         say("geometry " + c.geometry + ": " + std::to_string(set.size()) + " patches");
         io::CaseFile run = c;
         run.flow.present = true;  // the flow command solves the flow even without a flow section

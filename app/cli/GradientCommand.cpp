@@ -101,7 +101,7 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
         const io::CaseFile c = io::readCase(casePath);
         if (!c.flow.present) throw CaseError("'" + casePath + "': the case has no \"flow\" section (the functionals need a flow)");
         for (const std::string& n : names) study::checkGradientFunctional(n);
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), [&](const std::string& s) { say(cmd, s); });
+        study::CaseEvaluator ev(c, loadPatchSet(c.geometry), [&](const std::string& s) { say(cmd, s); });
         const study::Evaluation e = evaluateOrThrow(ev, ev.caseValues(), cmd, false, "the case's design");
         say(cmd, format("flow converged: CL %.6f, CD %.6f, %d iterations, %.1f s", e.flow->forces.CL, e.flow->forces.CD,
                      e.flow->report.iterations, e.secondsFlow));
@@ -191,7 +191,7 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
         c.outputRestart.clear();
         say(cmd, format("flow solved to %.0e of the initial residual, mesh movement to %.0e", c.flow.newton.relativeTolerance,
                      c.mesh.elasticity.tolerance));
-        const geometry::PatchSet geometry = study::loadGeometry(c.geometry);
+        const geometry::PatchSet geometry = loadPatchSet(c.geometry);
         study::CaseEvaluator ev(c, geometry, [&](const std::string& s) { say(cmd, s); });
         const std::vector<double> v0 = ev.caseValues();
         const study::Evaluation e = evaluateOrThrow(ev, v0, cmd, false, "the case's design");

@@ -97,7 +97,7 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
     return guarded("optimize", [&] {
         const io::CaseFile c = io::readCase(casePath);
         if (!c.optimization.present) throw CaseError("'" + casePath + "': the case has no \"optimization\" section");
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), say);
+        study::CaseEvaluator ev(c, loadPatchSet(c.geometry), say);
         study::OptimizationOptions o;
         o.resume = resume;
         o.fresh = fresh;

@@ -95,7 +95,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
     return guarded("sweep", [&] {
         const io::CaseFile c = io::readCase(casePath);
         if (!c.flow.present) throw CaseError("'" + casePath + "': the case has no \"flow\" section to sweep");
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), say);
+        study::CaseEvaluator ev(c, loadPatchSet(c.geometry), say);
         say(std::to_string(ev.variableCount()) + " design variables; " + std::to_string(fractions.size()) +
             " scaled designs, " + std::to_string(random) + " random (seed " + std::to_string(seed) + ", spread " +
             std::to_string(spread) + (feasible ? ", within the linear constraints" : "") + ")");

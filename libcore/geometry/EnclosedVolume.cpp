@@ -87,9 +87,13 @@ T enclosedVolume(const std::vector<nurbs::Surface<T>>& patches) {
     return vol / T(3.0);
 }
 
-double enclosedVolume(const PatchSet& set) { return enclosedVolume<double>(set.patches); }
+double enclosedVolume(const PatchSet& set) {
+    requireUntrimmed(set, "the enclosed volume");
+    return enclosedVolume<double>(set.patches);
+}
 
 std::vector<double> enclosedVolumeGradient(const PatchSet& set) {
+    requireUntrimmed(set, "the enclosed volume");
     std::vector<double> g(3 * static_cast<std::size_t>(set.controlPointCount()), 0.0);
     std::size_t offset = 0;
     for (const Patch& s : set.patches) {

@@ -14,6 +14,8 @@ namespace aero::geometry {
 template <class T>
 T enclosedVolume(const std::vector<nurbs::Surface<T>>& patches);
 
+/// Throws GeometryError naming the patch when a patch is trimmed (the integral runs over whole
+/// patches; integrating over trimmed regions is not implemented).
 double enclosedVolume(const PatchSet& set);
 
 /// dV/dA: 3 entries per (non-unique) control point, patches in order, u fastest.

@@ -4,8 +4,15 @@
 #include <limits>
 
 #include "common/Error.h"
+#include "geometry/Units.h"
 
 namespace aero::geometry {
+
+int PatchSet::trimmedCount() const {
+    int n = 0;
+    for (int p = 0; p < size(); ++p) n += trimmed(p) ? 1 : 0;
+    return n;
+}
 
 int PatchSet::controlPointCount() const {
     int n = 0;
@@ -29,7 +36,27 @@ void validate(const PatchSet& set) {
         throw GeometryError("'" + set.source + "': " + std::to_string(set.names.size()) + " names for " +
                             std::to_string(set.patches.size()) + " patches");
     }
-    for (int p = 0; p < set.size(); ++p) nurbs::validate(set.patches[p], set.describe(p));
+    if (!set.trims.empty() && set.trims.size() != set.patches.size()) {
+        throw GeometryError("'" + set.source + "': " + std::to_string(set.trims.size()) + " trims for " +
+                            std::to_string(set.patches.size()) + " patches");
+    }
+    if (!set.unit.empty() && !findLengthUnit(set.unit)) {
+        throw GeometryError("'" + set.source + "': unknown length unit '" + set.unit + "' (known: " + knownLengthUnits() + ")");
+    }
+    for (int p = 0; p < set.size(); ++p) {
+        nurbs::validate(set.patches[p], set.describe(p));
+        if (set.trimmed(p)) validate(set.trims[p], set.patches[p], set.describe(p));
+    }
+}
+
+void requireUntrimmed(const PatchSet& set, std::string_view what) {
+    const int count = set.trimmedCount();
+    if (count == 0) return;
+    int first = 0;
+    while (!set.trimmed(first)) ++first;
+    std::string m = std::string(what) + " needs untrimmed patches: " + set.describe(first) + " is trimmed";
+    if (count > 1) m += " (" + std::to_string(count - 1) + " more trimmed patch" + (count > 2 ? "es" : "") + ")";
+    throw GeometryError(m);
 }
 
 namespace {
@@ -59,14 +86,30 @@ BoundingBox controlBoundingBox(const PatchSet& set) {
 BoundingBox surfaceBoundingBox(const PatchSet& set, int samples) {
     BoundingBox b = emptyBox();
     std::vector<double> us(samples), vs(samples), out(3 * static_cast<std::size_t>(samples) * samples);
-    for (const Patch& p : set.patches) {
+    for (int k = 0; k < set.size(); ++k) {
+        const Patch& p = set.patches[k];
         for (int s = 0; s < samples; ++s) {
             const double t = static_cast<double>(s) / (samples - 1);
             us[s] = p.knotsU.front() + t * (p.knotsU.back() - p.knotsU.front());
             vs[s] = p.knotsV.front() + t * (p.knotsV.back() - p.knotsV.front());
         }
         nurbs::sampleGrid(p, us, vs, out.data());
-        grow(b, out);
+        if (!set.trimmed(k)) {
+            grow(b, out);
+            continue;
+        }
+        // Trimmed: the grid points inside the trim, then points along the loops themselves.
+        const TrimPolygons poly = polygonize(set.trims[k], p, 8);
+        std::vector<double> kept;
+        for (int j = 0; j < samples; ++j)
+            for (int i = 0; i < samples; ++i)
+                if (contains(poly, us[i], vs[j])) kept.insert(kept.end(), &out[3 * (i + samples * j)], &out[3 * (i + samples * j)] + 3);
+        for (const auto& loop : poly.loops)
+            for (const Point2& uv : loop) {
+                const auto x = nurbs::evaluate(p, uv[0], uv[1]);
+                kept.insert(kept.end(), {x.x(), x.y(), x.z()});
+            }
+        grow(b, kept);
     }
     return b;
 }

@@ -195,4 +195,149 @@ Adjacency buildAdjacency(const PatchSet& set, double tolerance) {
     return adj;
 }
 
+namespace {
+
+constexpr int kPieceSamples = 33;
+
+struct Piece {
+    int patch = -1;
+    TrimCurve curve;
+    std::vector<Vec3<double>> samples;  // kPieceSamples points of S(c(t)), uniform in t
+    std::vector<double> t;
+    double length = 0;
+    Vec3<double> lo, hi;  // bounding box of the samples
+};
+
+Vec3<double> image(const PatchSet& set, const Piece& p, double t) {
+    const Point2 uv = evaluate(p.curve, t);
+    return nurbs::evaluate(set.patches[static_cast<std::size_t>(p.patch)], uv[0], uv[1]);
+}
+
+/// Golden-section search for the extremum of f on [lo, hi] (`steps` steps); `maximum` picks which.
+template <class F>
+double golden(F f, double lo, double hi, bool maximum, double& best, int steps = 40) {
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    double f1 = f(x1), f2 = f(x2);
+    auto better = [&](double a, double b) { return maximum ? a > b : a < b; };
+    for (int it = 0; it < steps; ++it) {
+        if (better(f1, f2)) {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        }
+    }
+    best = better(f1, f2) ? x1 : x2;
+    return better(f1, f2) ? f1 : f2;
+}
+
+/// Distance from x to the piece's image: the nearest sample, then refined between its neighbours.
+double distanceTo(const PatchSet& set, const Piece& p, const Vec3<double>& x) {
+    std::size_t k = 0;
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < p.samples.size(); ++i) {
+        const double di = (p.samples[i] - x).norm();
+        if (di < d) {
+            d = di;
+            k = i;
+        }
+    }
+    if (d == 0) return 0;
+    const double lo = p.t[k == 0 ? 0 : k - 1], hi = p.t[std::min(k + 1, p.t.size() - 1)];
+    double at = 0;
+    // The distance is V-shaped at a point on the curve: 80 steps shrink the bracket to round-off.
+    return std::min(d, golden([&](double t) { return (image(set, p, t) - x).norm(); }, lo, hi, false, at, 80));
+}
+
+double distanceToBox(const Piece& p, const Vec3<double>& x) {
+    return (x.cwiseMax(p.lo).cwiseMin(p.hi) - x).norm();
+}
+
+}  // namespace
+
+BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance) {
+    std::vector<Piece> pieces;
+    for (int p = 0; p < set.size(); ++p) {
+        const Patch& s = set.patches[static_cast<std::size_t>(p)];
+        const TrimLoop rectangle = rectangleLoop(s.knotsU[static_cast<std::size_t>(s.degreeU)], s.knotsU[static_cast<std::size_t>(s.countU)],
+                                                 s.knotsV[static_cast<std::size_t>(s.degreeV)], s.knotsV[static_cast<std::size_t>(s.countV)]);
+        std::vector<const TrimLoop*> loops{&rectangle};
+        if (set.trimmed(p)) {
+            const PatchTrim& trim = set.trims[static_cast<std::size_t>(p)];
+            if (!trim.outer.curves.empty()) loops[0] = &trim.outer;
+            for (const TrimLoop& h : trim.holes) loops.push_back(&h);
+        }
+        for (const TrimLoop* loop : loops)
+            for (const TrimCurve& c : loop->curves) {
+                Piece piece;
+                piece.patch = p;
+                piece.curve = c;
+                for (int k = 0; k < kPieceSamples; ++k) {
+                    piece.t.push_back(c.first + (c.last - c.first) * k / (kPieceSamples - 1));
+                    piece.samples.push_back(image(set, piece, piece.t.back()));
+                    if (k > 0) piece.length += (piece.samples[k] - piece.samples[k - 1]).norm();
+                }
+                piece.lo = piece.hi = piece.samples[0];
+                for (const auto& x : piece.samples) {
+                    piece.lo = piece.lo.cwiseMin(x);
+                    piece.hi = piece.hi.cwiseMax(x);
+                }
+                pieces.push_back(std::move(piece));
+            }
+    }
+
+    BoundaryGaps out;
+    for (const Piece& a : pieces) {
+        if (a.length <= tolerance) continue;  // a degenerate edge (a pole)
+        ++out.pieces;
+        const double matchDistance = std::max(tolerance, 1e-2 * a.length);
+        const Vec3<double>& mid = a.samples[kPieceSamples / 2];
+        int best = -1;
+        double bestDistance = std::numeric_limits<double>::infinity();
+        for (const Piece& b : pieces) {
+            if (b.patch == a.patch || distanceToBox(b, mid) > std::min(matchDistance, bestDistance)) continue;
+            const double d = distanceTo(set, b, mid);
+            if (d < bestDistance) {
+                bestDistance = d;
+                best = b.patch;
+            }
+        }
+        if (best < 0 || bestDistance > matchDistance) {
+            ++out.free;
+            continue;
+        }
+        ++out.matched;
+        auto gapAt = [&](const Vec3<double>& x) {
+            double d = std::numeric_limits<double>::infinity();
+            for (const Piece& b : pieces)
+                if (b.patch == best && distanceToBox(b, x) < d) d = std::min(d, distanceTo(set, b, x));
+            return d;
+        };
+        double gap = 0;
+        std::size_t worst = 0;
+        for (std::size_t k = 0; k < a.samples.size(); ++k) {
+            const double d = gapAt(a.samples[k]);
+            if (d > gap) {
+                gap = d;
+                worst = k;
+            }
+        }
+        if (gap > 0) {
+            double at = 0;
+            const double lo = a.t[worst == 0 ? 0 : worst - 1], hi = a.t[std::min(worst + 1, a.t.size() - 1)];
+            gap = std::max(gap, golden([&](double t) { return gapAt(image(set, a, t)); }, lo, hi, true, at));
+        }
+        out.maxGap = std::max(out.maxGap, gap);
+    }
+    return out;
+}
+
 }  // namespace aero::geometry

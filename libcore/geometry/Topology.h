@@ -41,4 +41,18 @@ struct Adjacency {
 /// within `matchDistance`; measures each pair's gap by sampling and projecting.
 Adjacency buildAdjacency(const PatchSet& set, double tolerance = 1e-6);
 
+/// Watertightness of a set with trimmed patches, where patch edges are not the body's edges.
+/// The boundary pieces are the curves of the trim loops mapped onto their patches (and the four
+/// edges of each untrimmed patch). A piece is matched when its midpoint lies within 1% of its
+/// length (at least `tolerance`) of another patch's boundary; its gap is then the largest
+/// distance from the piece to that boundary (33 samples, the worst one refined). Pieces split
+/// differently on the two sides are handled: the distance is to the other patch's whole boundary.
+struct BoundaryGaps {
+    int pieces = 0;     // non-degenerate boundary pieces
+    int matched = 0;    // pieces along another patch's boundary
+    int free = 0;       // pieces with no neighbour (e.g. on a symmetry plane)
+    double maxGap = 0;  // largest gap over matched pieces
+};
+BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance = 1e-6);
+
 }  // namespace aero::geometry

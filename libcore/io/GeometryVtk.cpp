@@ -36,6 +36,19 @@ std::vector<MultiBlockGroup> geometryBlocks(const geometry::PatchSet& set, const
                                      : "patch " + std::to_string(p + 1);
         StructuredBlock b{name, {samples, samples, 1}, sampled(s, samples), {}, {}};
         if (baseline) b.pointData.push_back(difference("displacement", b.points, sampled(baseline->patches[p], samples)));
+        if (set.trimmedCount() > 0) {
+            // Trimmed sets: 1 where the sample is inside the patch's trim, 0 outside (threshold
+            // on it in ParaView to see the trimmed surfaces).
+            VtkField inside{"inside_trim", 1, std::vector<double>(static_cast<std::size_t>(samples) * samples, 1.0)};
+            if (set.trimmed(p)) {
+                const geometry::TrimPolygons poly = geometry::polygonize(set.trims[p], s);
+                const std::vector<double> us = parameters(s.knotsU, samples), vs = parameters(s.knotsV, samples);
+                for (int j = 0; j < samples; ++j)
+                    for (int i = 0; i < samples; ++i)
+                        inside.values[static_cast<std::size_t>(i + samples * j)] = geometry::contains(poly, us[i], vs[j]) ? 1.0 : 0.0;
+            }
+            b.pointData.push_back(std::move(inside));
+        }
         patches.blocks.push_back(std::move(b));
         StructuredBlock n{name, {s.countU, s.countV, 1}, s.points, {}, {}};
         if (baseline) n.pointData.push_back(difference("displacement", s.points, baseline->patches[p].points));

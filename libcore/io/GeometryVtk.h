@@ -9,9 +9,11 @@
 
 namespace aero::io {
 
-/// Groups "patches" (each patch sampled samples x samples, point field "displacement" when a
-/// baseline is given), "control_nets" and "lattices" (point field "displacement" when baseline
-/// lattices are given). Baselines may be null; if given they must match in sizes.
+/// Groups "patches" (each patch sampled samples x samples over its whole parameter rectangle,
+/// point field "displacement" when a baseline is given and, when any patch is trimmed,
+/// "inside_trim": 1 inside the patch's trim, 0 outside), "control_nets" and "lattices" (point
+/// field "displacement" when baseline lattices are given). Baselines may be null; if given they
+/// must match in sizes.
 std::vector<MultiBlockGroup> geometryBlocks(const geometry::PatchSet& set, const geometry::PatchSet* baseline,
                                             const std::vector<ffd::Lattice>& lattices,
                                             const std::vector<ffd::Lattice>* baselineLattices, int samples = 33);

@@ -2,7 +2,9 @@
 // The native JSON format of a patch set (schema in docs/file-formats.md):
 // {"format": "aeroform.patchset", "version": 1, "patches": [ {"name", "degree": [pu, pv],
 //  "count": [nu, nv], "knots_u", "knots_v", "points": [[x,y,z], ...] (u fastest),
-//  "weights" (optional)} ]}. Doubles are written in shortest round-trip form (exact).
+//  "weights" (optional), "trim" (optional: {"outer": [curve...], "holes": [[curve...]...]},
+//  curve = {"degree", "knots", "points": [[u, v], ...], "weights" (optional), "range": [first, last]})} ],
+//  "unit" (optional: "mm", "m", "in", ...)}. Doubles are written in shortest round-trip form (exact).
 #include <string>
 
 #include "geometry/PatchSet.h"

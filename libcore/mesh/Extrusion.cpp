@@ -125,6 +125,9 @@ constexpr int kEdgeFace[4] = {static_cast<int>(Face::JMin), static_cast<int>(Fac
 }  // namespace
 
 MultiBlockMesh extrudeToFarfield(const geometry::PatchSet& set, const ExtrusionOptions& o) {
+    // Each block is a whole patch's control net extruded outwards: a trimmed patch's net covers
+    // more than its trimmed surface, so the grid's wall would not be the body.
+    geometry::requireUntrimmed(set, "mesh generation (extrusion of whole patch nets)");
     if (o.radialControlPoints < o.radialDegree + 1 || o.radialDegree < 1 || o.surfaceNodes < 2 ||
         o.radialNodes < 2 || !(o.refine > 0) || !(o.farfieldRadius > 1) ||
         !(o.controlWallSpacing > 0) || !(o.gridWallSpacing > 0)) {

@@ -43,7 +43,8 @@ ExtrusionOptions extrusionLevel(const std::string& name);
 
 /// Builds blocks, control grid, boundary conditions and interface node pairs. Throws
 /// GeometryError if a patch edge is neither shared nor on the symmetry plane, or if the body is
-/// not star-shaped about its centre (a column would cross the wall).
+/// not star-shaped about its centre (a column would cross the wall), and GeometryError naming
+/// the patch if a patch is trimmed (blocks are extruded from whole patch nets).
 MultiBlockMesh extrudeToFarfield(const geometry::PatchSet& set, const ExtrusionOptions& o = {});
 
 }  // namespace aero::mesh

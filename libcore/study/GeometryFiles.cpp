@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cad/Iges.h"
+#include "cad/Step.h"
 #include "common/Error.h"
 #include "io/InputFile.h"
 #include "io/PatchSetJson.h"
@@ -18,19 +20,49 @@ std::string fileExtension(const std::string& path) {
     return ext;
 }
 
-geometry::PatchSet loadGeometry(const std::string& path, cad::IgesReadReport* report) {
+GeometryFormat geometryFormat(const std::string& path) {
+    const std::string ext = fileExtension(path);
+    if (ext == "json") return GeometryFormat::Json;
+    if (ext == "igs" || ext == "iges") return GeometryFormat::Iges;
+    if (ext == "stp" || ext == "step") return GeometryFormat::Step;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot open geometry file '" + path + "'");
+    std::string head(64, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    const std::size_t start = head.find_first_not_of(" \t\r\n");
+    if (start != std::string::npos && head[start] == '{') return GeometryFormat::Json;
+    if (start != std::string::npos && head.compare(start, 13, "ISO-10303-21;") == 0) return GeometryFormat::Step;
+    return GeometryFormat::Iges;
+}
+
+geometry::PatchSet loadGeometry(const std::string& path, cad::ReadReport* report) {
     io::checkInputFile(path, "geometry file", std::uintmax_t(2) << 30);
-    std::string ext = fileExtension(path);
-    if (ext != "json" && ext != "igs" && ext != "iges") {
-        std::ifstream in(path);
-        if (!in) throw InputError("cannot open geometry file '" + path + "'");
-        char c = ' ';
-        while (in.get(c) && std::isspace(static_cast<unsigned char>(c))) {
-        }
-        ext = c == '{' ? "json" : "igs";
+    switch (geometryFormat(path)) {
+        case GeometryFormat::Iges:
+            return cad::readIges(path, report);
+        case GeometryFormat::Step:
+            return cad::readStep(path, report);
+        case GeometryFormat::Json:
+            break;
     }
-    if (ext == "json") return io::readPatchSetJson(path);
-    return cad::readIges(path, report);
+    geometry::PatchSet set = io::readPatchSetJson(path);
+    if (report) {
+        *report = {};
+        report->format = "JSON";
+        report->unit = set.unit;
+        report->unitSource = set.unit.empty() ? "no \"unit\" key" : "the \"unit\" key";
+        for (int p = 0; p < set.size(); ++p) {
+            cad::ReadItem item;
+            item.entity = p + 1;
+            item.kind = "patch";
+            item.surface = cad::SurfaceOutcome::Kept;
+            item.trim = set.trimmed(p) ? cad::TrimOutcome::Kept : cad::TrimOutcome::None;
+            item.patches = {p};
+            report->items.push_back(std::move(item));
+        }
+    }
+    return set;
 }
 
 void saveGeometry(const geometry::PatchSet& set, const std::string& path) {
@@ -39,8 +71,10 @@ void saveGeometry(const geometry::PatchSet& set, const std::string& path) {
         io::writePatchSetJson(set, path);
     } else if (ext == "igs" || ext == "iges") {
         cad::writeIges(set, path);
+    } else if (ext == "stp" || ext == "step") {
+        cad::writeStep(set, path);
     } else {
-        throw InputError("output file '" + path + "': unknown extension (use .json, .igs or .iges)");
+        throw InputError("output file '" + path + "': unknown extension (use .json, .igs, .iges, .stp or .step)");
     }
 }
 

@@ -6,12 +6,14 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "geometry/Trim.h"
 #include "io/PatchSetJson.h"
 
 namespace {
@@ -88,6 +90,131 @@ TEST(Cli, ConvertRoundTripThroughIgesIsExact) {
     }
 }
 
+namespace {
+
+/// One IGES line: 72 columns of data, the section letter, a 7-digit sequence number.
+std::string igesLine(const std::string& data, char section, int seq) {
+    char tail[9];
+    std::snprintf(tail, sizeof tail, "%c%07d", section, seq);
+    return data + std::string(72 - data.size(), ' ') + tail + "\n";
+}
+
+/// A hand-written IGES file in metres: a bilinear B-spline surface (128), a point (116) and a
+/// CSG block (150, which Aeroform cannot read: a warning).
+std::string metreFileWithAPointAndABlock() {
+    std::string f;
+    f += igesLine("Aeroform CLI test", 'S', 1);
+    f += igesLine("1H,,1H;,4Htest,5Hm.igs,4Htest,4Htest,32,38,6,308,15,4Htest,1.0,", 'G', 1);
+    f += igesLine("6,1HM,1,1.0,15H20260101.000000,1.0E-8,10.0,2Hme,2Hme,11,0,", 'G', 2);
+    f += igesLine("15H20260101.000000;", 'G', 3);
+    const char* d[] = {"     128       1       0       0       0       0       0       000000000",
+                       "     128       0       0       2       0                               0",
+                       "     116       3       0       0       0       0       0       000000000",
+                       "     116       0       0       1       0                               0",
+                       "     150       4       0       0       0       0       0       000000000",
+                       "     150       0       0       1       0                               0"};
+    for (int k = 0; k < 6; ++k) f += igesLine(d[k], 'D', k + 1);
+    auto p = [&](const std::string& data, int de, int seq) {
+        char ptr[9];
+        std::snprintf(ptr, sizeof ptr, "%8d", de);
+        f += igesLine(data + std::string(64 - data.size(), ' ') + ptr, 'P', seq);
+    };
+    p("128,1,1,1,1,0,0,1,0,0,0.,0.,1.,1.,0.,0.,1.,1.,1.,1.,1.,1.,", 1, 1);
+    p("0.1,0.,0.,5.1,0.,0.,0.1,2.5,0.,5.1,2.5,0.25,0.,1.,0.,1.;", 1, 2);
+    p("116,1.,2.,3.;", 3, 3);
+    p("150,1.,1.,1.,0.,0.,0.,1.,0.,0.,0.,0.,1.;", 5, 4);
+    f += igesLine("S0000001G0000003D0000006P0000004", 'T', 1);
+    return f;
+}
+
+}  // namespace
+
+// info: the file's unit, what was read and what was ignored (with the directory entries and the
+// reasons), warnings on stderr, --strict turning them into exit code 1.
+TEST(Cli, InfoReportsUnitReadAndIgnoredEntitiesAndStrictFailsOnWarnings) {
+    const std::string path = tmp("m_point_block.igs");
+    std::ofstream(path) << metreFileWithAPointAndABlock();
+    Result r = run("info '" + path + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["format"], "IGES");
+    EXPECT_EQ(j["unit"], "m");
+    EXPECT_EQ(j["unit_source"], "IGES unit flag 6 ('M')");
+    EXPECT_EQ(j["patches"], 1);
+    EXPECT_EQ(j["trimmed_patches"], 0);
+    ASSERT_EQ(j["read"].size(), 1u);
+    EXPECT_EQ(j["read"][0]["type"], 128);
+    EXPECT_EQ(j["read"][0]["outcome"], "kept as NURBS exactly");
+    EXPECT_EQ(j["read"][0]["entities"], nlohmann::json::array({1}));
+    ASSERT_EQ(j["ignored"].size(), 2u);
+    EXPECT_EQ(j["ignored"][0]["de"], 3);
+    EXPECT_EQ(j["ignored"][0]["type"], 116);
+    EXPECT_EQ(j["ignored"][0]["reason"], "a point, not a surface");
+    EXPECT_EQ(j["ignored"][1]["de"], 5);
+    EXPECT_EQ(j["ignored"][1]["reason"], "a CSG solid: not supported");
+    ASSERT_EQ(j["warnings"].size(), 1u);
+    EXPECT_EQ(j["bbox"]["max"][0], 5.1);  // metres, as written
+    EXPECT_NE(r.err.find("warning: entity 3 (type 150, directory line 5) (entity type 150) ignored: a CSG solid"), std::string::npos)
+        << r.err;
+    // The text form.
+    r = run("info '" + path + "'");
+    ASSERT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("unit             m (metre, IGES unit flag 6 ('M')); coordinates as written in the file"), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("read             128 rational B-spline surface: 1 kept as NURBS exactly (DE 1)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("ignored          116 point: 1 (DE 3): a point, not a surface"), std::string::npos) << r.out;
+    // --strict: the same output, exit 1.
+    r = run("info '" + path + "' --strict");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--strict"), std::string::npos) << r.err;
+    // convert --strict writes nothing.
+    std::filesystem::remove(tmp("strict_out.json"));
+    r = run("convert '" + path + "' '" + tmp("strict_out.json") + "' --strict");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_FALSE(std::filesystem::exists(tmp("strict_out.json")));
+}
+
+// convert keeps the unit and the values unless --units asks; IN OUT and IN -o OUT both work;
+// STEP out and back keeps unit, values and trims.
+TEST(Cli, ConvertKeepsOrConvertsUnitsAndGoesThroughStep) {
+    const std::string in = tmp("m_point_block.igs");
+    std::ofstream(in) << metreFileWithAPointAndABlock();
+    ASSERT_EQ(run("convert '" + in + "' '" + tmp("m.json") + "'").code, 0);
+    const auto m = aero::io::readPatchSetJson(tmp("m.json"));
+    EXPECT_EQ(m.unit, "m");
+    EXPECT_EQ(m.patches[0].points[3], 5.1);
+    Result r = run("convert '" + tmp("m.json") + "' -o '" + tmp("mm.json") + "' --units mm");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("converted coordinates from m to mm (factor 1000)"), std::string::npos) << r.err;
+    const auto mm = aero::io::readPatchSetJson(tmp("mm.json"));
+    EXPECT_EQ(mm.unit, "mm");
+    for (std::size_t k = 0; k < m.patches[0].points.size(); ++k) EXPECT_EQ(mm.patches[0].points[k], 1000.0 * m.patches[0].points[k]);
+    EXPECT_EQ(run("convert '" + tmp("m.json") + "' '" + tmp("x.json") + "' --units furlong").code, 2);
+    EXPECT_EQ(run("convert '" + tmp("m.json") + "' '" + tmp("x.json") + "' extra").code, 2);
+
+    // A trimmed patch in inches through STEP and IGES.
+    aero::geometry::PatchSet t = m;
+    t.unit = "in";
+    t.trims.resize(1);
+    t.trims[0].outer = aero::geometry::rectangleLoop(0.25, 0.75, 0.0, 0.5);
+    aero::io::writePatchSetJson(t, tmp("in_trimmed.json"));
+    for (const std::string ext : {"stp", "igs"}) {
+        r = run("convert '" + tmp("in_trimmed.json") + "' '" + tmp("in_trimmed." + ext) + "'");
+        ASSERT_EQ(r.code, 0) << r.err;
+        r = run("info '" + tmp("in_trimmed." + ext) + "' --json");
+        ASSERT_EQ(r.code, 0) << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["unit"], "in") << ext;
+        EXPECT_EQ(j["trimmed_patches"], 1) << ext;
+        EXPECT_NEAR(j["bbox"]["min"][0].get<double>(), 0.1 + 0.25 * 5.0, 1e-12) << ext;  // the trimmed surface
+        EXPECT_EQ(j["control_bbox"]["max"][0], 5.1) << ext;
+        ASSERT_EQ(run("convert '" + tmp("in_trimmed." + ext) + "' '" + tmp("in_back_" + ext + ".json") + "'").code, 0);
+        const auto back = aero::io::readPatchSetJson(tmp("in_back_" + ext + ".json"));
+        EXPECT_EQ(back.patches[0].points, t.patches[0].points) << ext;
+        EXPECT_EQ(back.unit, "in") << ext;
+    }
+}
+
 TEST(Cli, BadInputGivesAClearErrorAndExitCode1) {
     Result r = run("info '" + tmp("missing.igs") + "'");
     EXPECT_EQ(r.code, 1);
@@ -117,6 +244,7 @@ TEST(Cli, UsageErrorsExitWith2AndHelpWorksEverywhere) {
     EXPECT_EQ(run("sample half-sphere").code, 2);
     EXPECT_EQ(run("sample half-sphere -o x.json --radius -1").code, 2);
     EXPECT_EQ(run("convert in.json").code, 2);
+    EXPECT_EQ(run("info x.json --strict --bogus").code, 2);
     for (const char* cmd : {"--help", "info --help", "sample --help", "convert --help"}) {
         const Result r = run(cmd);
         EXPECT_EQ(r.code, 0) << cmd;
@@ -166,6 +294,50 @@ TEST(Cli, DeformTheSampleCaseWritesExactGeometryAndVtk) {
     EXPECT_EQ(ji["max_edge_gap"], 0.0);
     EXPECT_GT(ji["bbox"]["max"][1].get<double>(), 2.0);
     EXPECT_FALSE(slurp(outputPath("cli_deformed/bwb.vtm")).empty());
+}
+
+// A trimmed geometry in inches: deform embeds and moves the whole base nets and writes the
+// trimmed patches (in inches) back; the mesh refuses, naming the trimmed patch.
+TEST(Cli, TrimmedGeometryDeformsButIsNotMeshed) {
+    aero::geometry::PatchSet set = aero::io::readPatchSetJson(kSamples + "/half_sphere.json");
+    set.unit = "in";
+    set.trims.resize(static_cast<std::size_t>(set.size()));
+    const auto& p = set.patches[3];
+    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(), v1 = p.knotsV.back();
+    set.trims[3].outer = aero::geometry::rectangleLoop(u0, 0.5 * (u0 + u1), v0, v1);
+    aero::io::writePatchSetJson(set, tmp("trimmed_sphere.json"));
+    const std::string lattice = R"("lattices": [{"name": "body", "counts": [6, 6, 2], "degrees": [3, 3, 1], "padding": [0.05, 0.0, 0.05]}],
+        "design_variables": {"stations": [{"lattice": "body", "direction": 1, "bits": ["001","011","011","011","011","011"],
+                                           "translation_bound": 3}]},
+        "values": {"body.S5.ty": 0.5})";
+    const std::string c = tmp("trimmed_case.json");
+    std::ofstream(c) << R"({"format": "aeroform.case", "version": 1, "geometry": ")" << tmp("trimmed_sphere.json") << "\", " << lattice
+                     << R"(, "output": {"geometry": "cli_trimmed/deformed.igs"}})";
+    Result r = run("deform '" + c + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["embedded_points"], 521);
+    EXPECT_TRUE(j["volume"].is_null());  // not computed over trimmed patches
+    EXPECT_NE(r.err.find("enclosed volume not computed (1 trimmed patches)"), std::string::npos) << r.err;
+    r = run("info '" + outputPath("cli_trimmed/deformed.igs") + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto ji = nlohmann::json::parse(r.out);
+    EXPECT_EQ(ji["unit"], "in");
+    EXPECT_EQ(ji["trimmed_patches"], 1);
+    ASSERT_EQ(ji["read"].size(), 2u);
+    EXPECT_EQ(ji["read"][0]["type"], 128);
+    EXPECT_EQ(ji["read"][0]["count"], 19);
+    EXPECT_EQ(ji["read"][1]["type"], 144);
+    EXPECT_EQ(ji["read"][1]["outcome"], "kept with trimming, exactly");
+    // The mesh level needs untrimmed patches.
+    const std::string m = tmp("trimmed_mesh.json");
+    std::ofstream(m) << R"({"format": "aeroform.case", "version": 1, "geometry": ")" << tmp("trimmed_sphere.json") << "\", " << lattice
+                     << R"(, "mesh": {"level": "coarse", "refine": 0.3}})";
+    r = run("mesh '" + m + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("needs untrimmed patches: patch 4 ('Y+-4') of '" + tmp("trimmed_sphere.json") + "' is trimmed"),
+              std::string::npos)
+        << r.err;
 }
 
 TEST(Cli, DeformRefusesAFoldedLatticeAndWritesNothing) {

@@ -5,6 +5,13 @@
 #include <unistd.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_SurfaceOfLinearExtrusion.hxx>
+#include <Geom_SurfaceOfRevolution.hxx>
+#include <TColgp_Array1OfPnt.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_CylindricalSurface.hxx>
@@ -27,10 +34,12 @@
 #include <string>
 #include <vector>
 
+#include "CadFixtures.h"
 #include "RandomNurbs.h"
 #include "cad/Iges.h"
 #include "common/Error.h"
 #include "geometry/HalfSphere.h"
+#include "geometry/Topology.h"
 #include "nurbs/Surface.h"
 
 // OpenCASCADE's one-time initialisation of its IGES settings (IGESControl_Controller::Init,
@@ -105,17 +114,24 @@ void expectSamePatch(const Patch& a, const Patch& b, const std::string& what) {
 void expectExactRoundTrip(const PatchSet& set, const std::string& file) {
     const std::string path = outputPath(file);
     writeIges(set, path);
-    IgesReadReport report;
+    ReadReport report;
     const PatchSet back = readIges(path, &report);
     EXPECT_EQ(back.source, path);
-    EXPECT_EQ(report.faces, set.size());
-    EXPECT_EQ(report.converted, 0);
-    EXPECT_EQ(report.trimmed, 0);
+    EXPECT_EQ(report.format, "IGES");
+    EXPECT_EQ(report.unit, set.unit.empty() ? "mm" : set.unit);
+    EXPECT_EQ(back.unit, report.unit);
+    ASSERT_EQ(report.items.size(), static_cast<std::size_t>(set.size()));
+    EXPECT_EQ(report.count(SurfaceOutcome::Kept), set.size());
+    EXPECT_EQ(report.count(TrimOutcome::None), set.size());
+    for (const ReadItem& item : report.items) EXPECT_EQ(item.type, 128);
     EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
     ASSERT_EQ(back.size(), set.size());
     ASSERT_EQ(back.names.size(), set.patches.size());
+    EXPECT_TRUE(back.trims.empty());
     for (int k = 0; k < set.size(); ++k) {
-        EXPECT_EQ(back.names[k], "face " + std::to_string(k + 1));
+        // Names come back (labels, or a name property when longer than 8 characters); a set
+        // without names gets the entity numbers.
+        EXPECT_EQ(back.names[k], set.names.empty() ? "entity " + std::to_string(k + 1) : set.names[k]);
         expectSamePatch(set.patches[k], back.patches[k], set.describe(k));
     }
 }
@@ -191,8 +207,9 @@ TEST(Iges, RoundTripOfHalfSphereIsExact) {
     expectExactRoundTrip(sphere, "half_sphere.igs");
 }
 
-TEST(Iges, RationalWithEqualWeightsReadsBackPolynomial) {
-    // OCCT drops weights that are all equal: the same surface, now stored as polynomial.
+TEST(Iges, RationalWithEqualWeightsStaysRational) {
+    // The file flags it rational (PROP3 = 0): its weights are kept as written (OpenCASCADE's
+    // reader made it polynomial).
     std::mt19937 rng(11);
     PatchSet set;
     set.patches.push_back(test::randomSurface(rng, 2, 3, 4, 6, true));
@@ -201,7 +218,8 @@ TEST(Iges, RationalWithEqualWeightsReadsBackPolynomial) {
     writeIges(set, path);
     const PatchSet back = readIges(path);
     ASSERT_EQ(back.size(), 1);
-    EXPECT_FALSE(back.patches[0].rational());
+    EXPECT_TRUE(back.patches[0].rational());
+    EXPECT_EQ(back.patches[0].weights, set.patches[0].weights);
     EXPECT_EQ(firstMismatch(set.patches[0].points, back.patches[0].points), -1);
 }
 
@@ -234,18 +252,41 @@ TEST(Iges, ReportsConvertedTrimmedAndPeriodicFaces) {
     ASSERT_TRUE(writer.AddShape(shape));
     ASSERT_TRUE(writer.Write(path.c_str()));
 
-    IgesReadReport report;
+    ReadReport report;
     const PatchSet set = readIges(path, &report);
     ASSERT_EQ(set.size(), 3);
-    EXPECT_EQ(report.faces, 3);
-    EXPECT_EQ(report.converted, 2);
-    EXPECT_EQ(report.trimmed, 1);
-    std::string all;
-    for (const std::string& w : report.warnings) all += w + "\n";
-    EXPECT_NE(all.find("face 1: Geom_Plane converted"), std::string::npos) << all;
-    EXPECT_NE(all.find("face 2: trimmed"), std::string::npos) << all;
-    EXPECT_NE(all.find("face 3: Geom_CylindricalSurface converted"), std::string::npos) << all;
-    EXPECT_NE(all.find("face 3: periodic"), std::string::npos) << all;
+    // Written as B-rep: a group (402) of three faces (510); each face one patch.
+    ASSERT_EQ(report.items.size(), 4u);
+    EXPECT_EQ(report.items[0].type, 402);
+    EXPECT_EQ(report.items[0].surface, SurfaceOutcome::Ignored);
+    EXPECT_EQ(report.items[0].note, "an associativity (a group): its members are read on their own");
+    for (int k = 1; k <= 3; ++k) EXPECT_EQ(report.items[k].type, 510);
+    // The plane: converted exactly; the B-spline face: its surface as written, trimmed to
+    // [0.25, 0.75] x [0, 1] (a B-rep face: OCCT's p-curves, reported as computed); the full
+    // cylinder converted and made non-periodic, untrimmed.
+    EXPECT_EQ(report.items[1].surface, SurfaceOutcome::Converted);
+    EXPECT_EQ(report.items[1].trim, TrimOutcome::None);
+    EXPECT_NE(report.items[1].note.find("Geom_Plane converted to an exact NURBS surface"), std::string::npos) << report.items[1].note;
+    EXPECT_EQ(report.items[2].surface, SurfaceOutcome::Kept);
+    EXPECT_EQ(report.items[2].trim, TrimOutcome::Computed);
+    EXPECT_EQ(report.items[3].surface, SurfaceOutcome::Converted);
+    EXPECT_EQ(report.items[3].trim, TrimOutcome::None);
+    EXPECT_NE(report.items[3].note.find("Geom_CylindricalSurface converted"), std::string::npos) << report.items[3].note;
+    EXPECT_NE(report.items[3].note.find("periodic knots made non-periodic"), std::string::npos) << report.items[3].note;
+    EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+    EXPECT_FALSE(set.trimmed(0));
+    EXPECT_FALSE(set.trimmed(2));
+    ASSERT_TRUE(set.trimmed(1));
+    // Bit for bit what the file says (OCCT's own reader of the same text, in the file's unit).
+    const auto occt = fixtures::occtSurfaces(path, "MM");
+    ASSERT_EQ(occt.size(), 3u);
+    ASSERT_FALSE(occt[1].IsNull());
+    fixtures::expectSameSurface(*occt[1], set.patches[1], "the B-spline face");
+    const geometry::TrimPolygons poly = geometry::polygonize(set.trims[1], set.patches[1]);
+    EXPECT_NEAR(std::abs(geometry::signedArea(poly.loops[0])), 0.5, 1e-15);
+    EXPECT_TRUE(geometry::contains(poly, 0.5, 0.5));
+    EXPECT_FALSE(geometry::contains(poly, 0.2, 0.5));
+    EXPECT_FALSE(geometry::contains(poly, 0.8, 0.5));
 
     // The converted cylinder is the same surface: every point at radius 2.
     const Patch& round = set.patches[2];
@@ -258,6 +299,223 @@ TEST(Iges, ReportsConvertedTrimmedAndPeriodicFaces) {
             const auto p = nurbs::evaluate(round, s, t);
             EXPECT_NEAR(std::hypot(p.x(), p.y()), 2.0, 1e-6) << "u " << s << " v " << t;
         }
+}
+
+// Files in metres and inches written by OpenCASCADE's IGES writer: the unit is the file's and
+// the values are the file's, bit for bit (compared with OCCT's own reader told to use the file's
+// unit; its default, millimetres, multiplies them). Both 17-digit and OCCT's default ~10-digit
+// output.
+TEST(Iges, MetreAndInchFilesKeepTheirUnitAndValuesBitForBit) {
+    const TopoDS_Face face = BRepBuilderAPI_MakeFace(fixtures::wavySurface(2500.0), 1e-7);  // 5 m chord, in mm
+    struct Case {
+        const char *occtUnit, *unit;
+        double mmPerUnit;
+        bool exact;
+    };
+    for (const Case& c : {Case{"M", "m", 1000.0, true}, Case{"M", "m", 1000.0, false}, Case{"INCH", "in", 25.4, true},
+                          Case{"INCH", "in", 25.4, false}, Case{"MM", "mm", 1.0, true}}) {
+        SCOPED_TRACE(std::string(c.unit) + (c.exact ? " 17 digits" : " OCCT default digits"));
+        const std::string path = outputPath(std::string("occt_") + c.unit + (c.exact ? "_exact" : "_default") + ".igs");
+        fixtures::writeIgesWithOcct(face, c.occtUnit, 0, path, c.exact);
+        ReadReport report;
+        const PatchSet set = readIges(path, &report);
+        EXPECT_EQ(set.unit, c.unit);
+        EXPECT_EQ(report.unit, c.unit);
+        EXPECT_NE(report.unitSource.find("IGES unit flag"), std::string::npos);
+        EXPECT_TRUE(report.warnings.empty());
+        ASSERT_EQ(set.size(), 1);
+        ASSERT_EQ(report.items.size(), 1u);
+        EXPECT_EQ(report.items[0].surface, SurfaceOutcome::Kept);
+        const auto occt = fixtures::occtSurfaces(path, c.occtUnit);
+        ASSERT_EQ(occt.size(), 1u);
+        ASSERT_FALSE(occt[0].IsNull());
+        fixtures::expectSameSurface(*occt[0], set.patches[0], "OCCT in the file's unit");
+        // The chord is 5 m: 5 in metres, 196.85... in inches (not the 5000 millimetres OCCT reads).
+        const geometry::BoundingBox box = geometry::controlBoundingBox(set);
+        EXPECT_NEAR(box.max[0] - box.min[0], 5000.0 / c.mmPerUnit, 1e-8 * 5000.0 / c.mmPerUnit);
+        if (c.mmPerUnit != 1.0) {
+            const auto mm = fixtures::occtSurfaces(path, "MM");
+            ASSERT_EQ(mm.size(), 1u);
+            EXPECT_NEAR(mm[0]->Pole(4, 3).X(), c.mmPerUnit * set.patches[0].points[3 * set.patches[0].index(3, 2)], 1e-9);
+        }
+        // Written back: the same unit, the same values.
+        const std::string back = outputPath(std::string("occt_") + c.unit + "_back.igs");
+        writeIges(set, back);
+        const PatchSet again = readIges(back);
+        EXPECT_EQ(again.unit, c.unit);
+        expectSamePatch(set.patches[0], again.patches[0], "written back");
+    }
+}
+
+/// Our loop's curve equals an OCCT p-curve we made (same poles, knots, range), bit for bit.
+void expectSameCurve(const geometry::TrimCurve& c, const Geom2d_BSplineCurve& b, const std::string& what) {
+    ASSERT_EQ(c.curve.count(), b.NbPoles()) << what;
+    EXPECT_EQ(c.curve.degree, b.Degree()) << what;
+    for (int i = 0; i < b.NbPoles(); ++i) {
+        EXPECT_EQ(c.curve.points[3 * i], b.Pole(i + 1).X()) << what << " pole " << i;
+        EXPECT_EQ(c.curve.points[3 * i + 1], b.Pole(i + 1).Y()) << what << " pole " << i;
+    }
+    TColStd_Array1OfReal k(1, b.NbPoles() + b.Degree() + 1);
+    b.KnotSequence(k);
+    EXPECT_EQ(c.curve.knots, std::vector<double>(k.begin(), k.end())) << what;
+    EXPECT_EQ(c.first, b.FirstParameter()) << what;
+    EXPECT_EQ(c.last, b.LastParameter()) << what;
+}
+
+// A trimmed face (outer loop of two B-spline p-curves, a circular hole) written by OCCT as
+// 144/142 in millimetres with 17 digits: read by our parser exactly, written back exactly, and
+// our output read by OCCT as one face with a hole.
+TEST(Iges, TrimmedFacesWrittenByOcctAreKeptExactly) {
+    const Handle(Geom_BSplineSurface) surface = fixtures::wavySurface();
+    const TopoDS_Face face = fixtures::trimmedFace(surface, true);
+    const std::string path = outputPath("occt_trimmed.igs");
+    fixtures::writeIgesWithOcct(face, "MM", 0, path);
+    ReadReport report;
+    const PatchSet set = readIges(path, &report);
+    ASSERT_EQ(set.size(), 1);
+    ASSERT_EQ(report.items.size(), 1u);
+    const ReadItem& item = report.items[0];
+    EXPECT_EQ(item.type, 144);
+    EXPECT_EQ(item.surface, SurfaceOutcome::Kept) << item.note;
+    // The circle is written by OCCT as a circular arc (100) with a transformation matrix (124):
+    // the same curve as a rational B-spline, its control points computed.
+    EXPECT_EQ(item.trim, TrimOutcome::Converted) << item.note;
+    EXPECT_EQ(item.note, "trim curves: circular arcs made rational B-splines, transformation matrices applied");
+    EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+    fixtures::expectSameSurface(*surface, set.patches[0], "the base surface");
+    ASSERT_TRUE(set.trimmed(0));
+    const geometry::PatchTrim& trim = set.trims[0];
+    ASSERT_EQ(trim.outer.curves.size(), 2u);
+    ASSERT_EQ(trim.holes.size(), 1u);
+    expectSameCurve(trim.outer.curves[0],
+                    *fixtures::curve2d({gp_Pnt2d(0.1, 0.1), gp_Pnt2d(0.7, 0.05), gp_Pnt2d(1.3, 0.3), gp_Pnt2d(1.9, 0.15)}, 3), "lower");
+    expectSameCurve(trim.outer.curves[1],
+                    *fixtures::curve2d({gp_Pnt2d(1.9, 0.15), gp_Pnt2d(1.5, 0.9), gp_Pnt2d(0.4, 0.95), gp_Pnt2d(0.1, 0.1)}, 2), "upper");
+    // The circle (OCCT writes it as a rational 126): every point at radius 0.15 from (0.9, 0.45).
+    double worst = 0;
+    for (const geometry::TrimCurve& c : trim.holes[0].curves)
+        for (int k = 0; k <= 50; ++k) {
+            const geometry::Point2 uv = geometry::evaluate(c, c.first + (c.last - c.first) * k / 50);
+            worst = std::max(worst, std::abs(std::hypot(uv[0] - 0.9, uv[1] - 0.45) - 0.15));
+        }
+    EXPECT_LT(worst, 1e-15);
+
+    // Written back and read again: identical.
+    const std::string out = outputPath("occt_trimmed_back.igs");
+    writeIges(set, out);
+    const PatchSet back = readIges(out);
+    ASSERT_TRUE(back.trimmed(0));
+    ASSERT_EQ(back.trims[0].holes.size(), 1u);
+    for (std::size_t k = 0; k < 2; ++k) {
+        EXPECT_EQ(back.trims[0].outer.curves[k].curve.points, trim.outer.curves[k].curve.points);
+        EXPECT_EQ(back.trims[0].outer.curves[k].curve.knots, trim.outer.curves[k].curve.knots);
+    }
+    EXPECT_EQ(back.trims[0].holes[0].curves[0].curve.weights, trim.holes[0].curves[0].curve.weights);
+    // OCCT reads our output: one face, two wires, and its area (OCCT's integration) equals the
+    // original face's.
+    IGESControl_Controller::Init();
+    IGESControl_Reader reader;
+    ASSERT_EQ(reader.ReadFile(out.c_str()), IFSelect_RetDone);
+    reader.TransferRoots();
+    int faces = 0, wires = 0;
+    double area = 0;
+    for (TopExp_Explorer f(reader.OneShape(), TopAbs_FACE); f.More(); f.Next()) {
+        ++faces;
+        for (TopExp_Explorer w(f.Current(), TopAbs_WIRE); w.More(); w.Next()) ++wires;
+        GProp_GProps props;
+        BRepGProp::SurfaceProperties(f.Current(), props, 1e-10);
+        area += props.Mass();
+    }
+    GProp_GProps original;
+    BRepGProp::SurfaceProperties(face, original, 1e-10);
+    EXPECT_EQ(faces, 1);
+    EXPECT_EQ(wires, 2);
+    // (Adaptive integration to 1e-10; a lost or inverted hole would be 7 % off.)
+    EXPECT_NEAR(area, original.Mass(), 1e-7 * original.Mass());
+}
+
+// Without parameter-space curves in the file (OCCT's write.surfacecurve.mode 0), the trims are
+// defined in model space only: OpenCASCADE computes the loops, the report and a warning say so.
+TEST(Iges, ModelSpaceOnlyTrimsAreComputedWithAWarning) {
+    const Handle(Geom_BSplineSurface) surface = fixtures::wavySurface();
+    const TopoDS_Face face = fixtures::trimmedFace(surface, true);
+    const std::string path = outputPath("occt_model_space_trims.igs");
+    fixtures::writeIgesWithOcct(face, "MM", 0, path, true, false);
+    ReadReport report;
+    const PatchSet set = readIges(path, &report);
+    ASSERT_EQ(set.size(), 1);
+    ASSERT_EQ(report.items.size(), 1u);
+    EXPECT_EQ(report.items[0].surface, SurfaceOutcome::Kept);
+    EXPECT_EQ(report.items[0].trim, TrimOutcome::Computed);
+    EXPECT_NE(report.items[0].note.find("model space only"), std::string::npos) << report.items[0].note;
+    ASSERT_EQ(report.warnings.size(), 1u);
+    EXPECT_NE(report.warnings[0].find("trim loops defined in model space only"), std::string::npos) << report.warnings[0];
+    fixtures::expectSameSurface(*surface, set.patches[0], "the base surface");
+    // The computed loops bound the same region as the exact ones (the fixture's parameter-space
+    // curves): areas in parameter space agree to the model-space curves' accuracy.
+    ASSERT_TRUE(set.trimmed(0));
+    const PatchSet exact = readIges(outputPath("occt_trimmed.igs"));
+    const geometry::PatchTrim &ours = set.trims[0], &reference = exact.trims[0];
+    ASSERT_EQ(ours.holes.size(), 1u);
+    EXPECT_NEAR(std::abs(geometry::signedArea(ours.outer)), std::abs(geometry::signedArea(reference.outer)), 1e-7);
+    EXPECT_NEAR(std::abs(geometry::signedArea(ours.holes[0])), std::abs(geometry::signedArea(reference.holes[0])), 1e-7);
+    EXPECT_NEAR(std::abs(geometry::signedArea(reference.holes[0])), std::numbers::pi * 0.15 * 0.15, 1e-15);
+}
+
+// Surfaces of revolution and extrusions (OCCT writes them as 144 over 120 and 122) in metres:
+// converted to NURBS by OpenCASCADE exactly (the points lie on the original surfaces), unit kept.
+TEST(Iges, SurfacesOfRevolutionAndExtrusionsAreConvertedExactly) {
+    const Handle(Geom_BSplineCurve) profile = [] {
+        TColgp_Array1OfPnt p(1, 4);
+        p(1) = gp_Pnt(100, 0, 0);
+        p(2) = gp_Pnt(150, 0, 100);
+        p(3) = gp_Pnt(120, 0, 200);
+        p(4) = gp_Pnt(60, 0, 300);
+        TColStd_Array1OfReal k(1, 2);
+        k(1) = 0;
+        k(2) = 1;
+        TColStd_Array1OfInteger m(1, 2);
+        m.Init(4);
+        return Handle(Geom_BSplineCurve)(new Geom_BSplineCurve(p, k, m, 3));
+    }();
+    const Handle(Geom_Surface) revolution = new Geom_SurfaceOfRevolution(profile, gp::OZ());
+    const Handle(Geom_Surface) extrusion = new Geom_SurfaceOfLinearExtrusion(profile, gp_Dir(0, 1, 0));
+    TopoDS_Compound shape;
+    BRep_Builder builder;
+    builder.MakeCompound(shape);
+    builder.Add(shape, BRepBuilderAPI_MakeFace(revolution, 0.0, 1.5 * std::numbers::pi, 0.0, 1.0, 1e-7));
+    builder.Add(shape, BRepBuilderAPI_MakeFace(extrusion, 0.0, 1.0, 0.0, 80.0, 1e-7));
+    const std::string path = outputPath("occt_revolution_m.igs");
+    fixtures::writeIgesWithOcct(shape, "M", 0, path);
+    ReadReport report;
+    const PatchSet set = readIges(path, &report);
+    EXPECT_EQ(set.unit, "m");
+    ASSERT_EQ(set.size(), 2);
+    EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+    int converted = 0;
+    std::string kinds;
+    for (const ReadItem& i : report.items) {
+        converted += i.surface == SurfaceOutcome::Converted;
+        kinds += i.kind + "; ";
+    }
+    EXPECT_EQ(converted, 2) << kinds;
+    EXPECT_NE(kinds.find("surface of revolution"), std::string::npos) << kinds;
+    EXPECT_NE(kinds.find("tabulated cylinder"), std::string::npos) << kinds;
+    // Every sampled point (metres) lies on its original surface (millimetres).
+    for (int p = 0; p < 2; ++p) {
+        const Handle(Geom_Surface) original = p == 0 ? revolution : extrusion;
+        const geometry::Patch& s = set.patches[static_cast<std::size_t>(p)];
+        double worst = 0;
+        for (int i = 0; i <= 6; ++i)
+            for (int j = 0; j <= 6; ++j) {
+                const auto x = nurbs::evaluate(s, s.knotsU.front() + (s.knotsU.back() - s.knotsU.front()) * i / 6,
+                                               s.knotsV.front() + (s.knotsV.back() - s.knotsV.front()) * j / 6);
+                GeomAPI_ProjectPointOnSurf proj(gp_Pnt(1000 * x.x(), 1000 * x.y(), 1000 * x.z()), original);
+                ASSERT_GT(proj.NbPoints(), 0);
+                worst = std::max(worst, proj.LowerDistance());
+            }
+        EXPECT_LT(worst, 1e-7) << "patch " << p;  // millimetres, on a body of 300 mm
+    }
 }
 
 TEST(Iges, MissingFileIsAnInputErrorNamingIt) {
@@ -355,7 +613,7 @@ TEST(Iges, NonNumericCoordinateIsAnInputErrorNamingFileAndEntity) {
     }
 }
 
-TEST(Iges, OverflowingCoordinateIsAGeometryErrorNamingFileAndPatch) {
+TEST(Iges, OverflowingCoordinateIsAnInputErrorNamingFileAndEntity) {
     std::mt19937 rng(6);
     PatchSet set;
     set.patches.push_back(test::randomSurface(rng, 2, 2, 4, 4, false));
@@ -364,10 +622,12 @@ TEST(Iges, OverflowingCoordinateIsAGeometryErrorNamingFileAndPatch) {
     writeIges(set, path);
     const int firstPole =
         10 + static_cast<int>(p.knotsU.size() + p.knotsV.size()) + p.controlCount() + 1;
+    // The fields are 23 columns wide ("%.16E"): the value keeps its column.
     writeText(path, replaceParameter(readText(path), firstPole, "1.0E+999"));
-    const std::string m = messageOf<GeometryError>([&] { readIges(path); });
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
     EXPECT_NE(m.find(path), std::string::npos) << m;
-    EXPECT_NE(m.find("face 1"), std::string::npos) << m;
+    EXPECT_NE(m.find("entity 1 (type 128"), std::string::npos) << m;
+    EXPECT_NE(m.find("1.0E+999: not a finite number"), std::string::npos) << m;
 }
 
 TEST(Iges, InvalidKnotsAreAGeometryErrorNamingFileAndEntity) {

@@ -200,3 +200,31 @@ TEST(FfdModel, BlendedWingDeformationStaysInjective) {
     EXPECT_GT(b.max[1], 2.5);
     EXPECT_LT(b.max[2] - b.min[2], 1.4);
 }
+
+// Trims live in parameter space: a deformation moves the base surface's control points and
+// leaves the trims (and the unit) as they were, so the trimmed surface is S(trim region) for
+// the deformed S.
+TEST(FfdModel, DeformationKeepsTrimsAndUnitExactly) {
+    auto set = geometry::makeHalfSphere();
+    set.unit = "m";
+    set.trims.resize(static_cast<std::size_t>(set.size()));
+    const auto& p = set.patches[2];
+    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(), v1 = p.knotsV.back();
+    set.trims[2].outer = geometry::rectangleLoop(u0 + 0.2 * (u1 - u0), u1, v0, v0 + 0.7 * (v1 - v0));
+    geometry::validate(set);
+    LatticeSpec spec;
+    spec.name = "body";
+    spec.lattice = makeLattice(boxAround(set, {}, {0.05, 0.0, 0.05}), {6, 6, 2}, {3, 3, 1});
+    FfdModel m(set, {spec});
+    StationSpec st;
+    st.direction = 1;
+    st.bits = {"001", "011", "011", "011", "011", "011"};
+    m.design().addStations(st);
+    const geometry::PatchSet d = m.deform(randomStep(m, 7, 0.2));
+    EXPECT_EQ(d.unit, "m");
+    ASSERT_EQ(d.trims.size(), set.trims.size());
+    EXPECT_EQ(d.trims[2].outer.curves.size(), 4u);
+    for (std::size_t c = 0; c < 4; ++c) EXPECT_EQ(d.trims[2].outer.curves[c].curve.points, set.trims[2].outer.curves[c].curve.points);
+    EXPECT_NE(d.patches[2].points, set.patches[2].points);  // the surface moved
+    EXPECT_NO_THROW(geometry::validate(d));                  // and its trim is still valid on it
+}

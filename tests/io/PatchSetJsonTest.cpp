@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "RandomNurbs.h"
@@ -53,6 +54,70 @@ TEST(PatchSetJson, RoundTripIsExact) {
     io::writePatchSetJson(set, path);
     expectIdentical(set, io::readPatchSetJson(path));
     expectIdentical(geometry::makeHalfSphere(), io::parsePatchSetJson(io::formatPatchSetJson(geometry::makeHalfSphere()), "x"));
+}
+
+// The unit and the trims (loops of parameter-space curves) go out and come back bit for bit.
+TEST(PatchSetJson, UnitAndTrimsRoundTripExactly) {
+    geometry::PatchSet set = geometry::makeHalfSphere();
+    set.unit = "in";
+    set.trims.resize(static_cast<std::size_t>(set.size()));
+    const geometry::Patch& p = set.patches[3];
+    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(), v1 = p.knotsV.back();
+    set.trims[3].outer = geometry::rectangleLoop(u0 + 0.1 * (u1 - u0), u1, v0, v1 - 1.0 / 3.0 * (v1 - v0));
+    geometry::TrimCurve arc = geometry::lineCurve({u0 + 0.4 * (u1 - u0), v0 + 0.3 * (v1 - v0)}, {u0 + 0.6 * (u1 - u0), v0 + 0.3 * (v1 - v0)});
+    arc.curve.degree = 2;
+    arc.curve.knots = {0, 0, 0, 1, 1, 1};
+    arc.curve.points = {arc.curve.points[0], arc.curve.points[1], 0, u0 + 0.5 * (u1 - u0), v0 + 0.5 * (v1 - v0), 0,
+                        arc.curve.points[3], arc.curve.points[4], 0};
+    arc.curve.weights = {1, std::sqrt(0.5), 1};
+    set.trims[7].holes.push_back({{arc, geometry::lineCurve(geometry::endPoint(arc), geometry::startPoint(arc))}});
+    geometry::validate(set);
+    const geometry::PatchSet back = io::parsePatchSetJson(io::formatPatchSetJson(set), "trims.json");
+    expectIdentical(set, back);
+    EXPECT_EQ(back.unit, "in");
+    ASSERT_EQ(back.trims.size(), set.trims.size());
+    EXPECT_EQ(back.trimmedCount(), 2);
+    for (int k : {3, 7}) {
+        const auto& a = set.trims[static_cast<std::size_t>(k)];
+        const auto& b = back.trims[static_cast<std::size_t>(k)];
+        ASSERT_EQ(a.outer.curves.size(), b.outer.curves.size());
+        ASSERT_EQ(a.holes.size(), b.holes.size());
+        std::vector<const geometry::TrimLoop*> la{&a.outer}, lb{&b.outer};
+        for (std::size_t h = 0; h < a.holes.size(); ++h) {
+            la.push_back(&a.holes[h]);
+            lb.push_back(&b.holes[h]);
+        }
+        for (std::size_t l = 0; l < la.size(); ++l)
+            for (std::size_t c = 0; c < la[l]->curves.size(); ++c) {
+                const auto &x = la[l]->curves[c], &y = lb[l]->curves[c];
+                EXPECT_EQ(x.curve.points, y.curve.points);
+                EXPECT_EQ(x.curve.knots, y.curve.knots);
+                EXPECT_EQ(x.curve.weights, y.curve.weights);
+                EXPECT_EQ(x.first, y.first);
+                EXPECT_EQ(x.last, y.last);
+            }
+    }
+    // A set without trims or unit writes neither key (files of earlier versions stay the same).
+    const std::string plain = io::formatPatchSetJson(geometry::makeHalfSphere());
+    EXPECT_EQ(plain.find("\"trim\""), std::string::npos);
+    EXPECT_EQ(plain.find("\"unit\""), std::string::npos);
+}
+
+TEST(PatchSetJson, BadTrimsAndUnitsNameFileAndKey) {
+    const std::string good = io::formatPatchSetJson(geometry::makeHalfSphere());
+    auto with = [&](const std::string& patchKey) {
+        std::string t = good;
+        t.insert(t.find("\"name\""), patchKey + ", ");
+        return t;
+    };
+    expectInputError(with(R"("trim": {"outer": [{"degree": 1, "knots": [0, 0, 1, 1], "points": [[0, 0], [1, 1]], "range": [0, 1]}]})"),
+                     "outer trim loop: not closed");
+    expectInputError(with(R"("trim": {"inner": []})"), "patches[0].trim: unknown key 'inner'");
+    expectInputError(with(R"("trim": {"holes": [[{"degree": 1, "knots": [0, 0, 1, 1], "points": [[0, 0, 0], [1, 1]], "range": [0, 1]}]]})"),
+                     "patches[0].trim.holes[0][0].points[0]: expected [u, v]");
+    std::string unit = good;
+    unit.insert(unit.find("\"patches\""), "\"unit\": \"furlong\", ");
+    expectInputError(unit, "unknown length unit 'furlong'");
 }
 
 TEST(PatchSetJson, BadInputNamesFileAndKey) {

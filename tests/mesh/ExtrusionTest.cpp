@@ -149,6 +149,22 @@ TEST(Extrusion, BadInputIsRejected) {
     set.patches.erase(set.patches.begin());
     set.names.erase(set.names.begin());
     EXPECT_THROW(extrudeToFarfield(set, extrusionLevel("coarse")), GeometryError);
+    // A trimmed patch: blocks are extruded from whole patch nets, so it is refused by name.
+    auto trimmed = geometry::makeHalfSphere();
+    trimmed.source = "wing.igs";
+    trimmed.trims.resize(static_cast<std::size_t>(trimmed.size()));
+    const auto& p = trimmed.patches[4];
+    trimmed.trims[4].outer = geometry::rectangleLoop(p.knotsU.front(), 0.5 * (p.knotsU.front() + p.knotsU.back()), p.knotsV.front(),
+                                                     p.knotsV.back());
+    try {
+        extrudeToFarfield(trimmed, extrusionLevel("coarse"));
+        ADD_FAILURE() << "a trimmed patch was extruded";
+    } catch (const GeometryError& e) {
+        EXPECT_NE(std::string(e.what()).find("mesh generation (extrusion of whole patch nets) needs untrimmed patches: patch 5 ('" +
+                                             trimmed.names[4] + "') of 'wing.igs' is trimmed"),
+                  std::string::npos)
+            << e.what();
+    }
     // A mismatched interface: change one block's samples so its face nodes no longer meet.
     MultiBlockMesh m = coarse();
     m.interfaceNodes.clear();  // otherwise regenerateAll copies the old pairs and hides the mismatch
