@@ -37,7 +37,7 @@ ActionSet::ActionSet(QObject* owner, QUndoStack* stack) {
     };
 
     // File.
-    open = make(QObject::tr("&Open..."), "actionOpen", QObject::tr("Open a project (.json case), an IGES file or a patch set"));
+    open = make(QObject::tr("&Open..."), "actionOpen", QObject::tr("Open a project (.json case), an IGES or STEP file or a patch set"));
     open->setIcon(appIcon(QStringLiteral("open"), QStyle::SP_DialogOpenButton));
     open->setShortcut(QKeySequence::Open);
     openSample = make(QObject::tr("Half-Sphere with the Paper's &FFD Lattice"), "actionOpenSample");
@@ -47,7 +47,7 @@ ActionSet::ActionSet(QObject* owner, QUndoStack* stack) {
     save->setShortcut(QKeySequence::Save);
     saveAs = make(QObject::tr("Save &As..."), "actionSaveAs");
     saveAs->setShortcut(QKeySequence::SaveAs);
-    exportGeometry = make(QObject::tr("Deformed &Geometry (IGES, JSON)..."), "actionExportGeometry");
+    exportGeometry = make(QObject::tr("Deformed &Geometry (IGES, STEP, JSON)..."), "actionExportGeometry");
     exportVtk = make(QObject::tr("Geometry for &ParaView (VTK)..."), "actionExportVtk");
     exportGrid = make(QObject::tr("G&rid (VTK, Plot3D)..."), "actionExportGrid",
                       QObject::tr("The previewed grid: VTK multiblock with the quality fields, or Plot3D"));

@@ -44,7 +44,7 @@ void Exports::exportGeometry() {
                                  QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel);
         if (answer != QMessageBox::Yes) return;
     }
-    const QString path = askPath(tr("Export Deformed Geometry"), tr("IGES (*.igs *.iges);;Aeroform patch set (*.json)"));
+    const QString path = askPath(tr("Export Deformed Geometry"), tr("IGES (*.igs *.iges);;STEP (*.stp *.step);;Aeroform patch set (*.json)"));
     if (path.isEmpty()) return;
     QString error;
     const bool ok = ProjectFiles::guarded([&] { document_->exportGeometry(path); }, &error);

@@ -47,7 +47,8 @@ bool ProjectFiles::guarded(const std::function<void()>& work, QString* error) {
 
 bool ProjectFiles::supported(const QString& path) {
     const QString s = QFileInfo(path).suffix().toLower();
-    return s == QLatin1String("json") || s == QLatin1String("igs") || s == QLatin1String("iges");
+    return s == QLatin1String("json") || s == QLatin1String("igs") || s == QLatin1String("iges") ||
+           s == QLatin1String("stp") || s == QLatin1String("step");
 }
 
 // ---- Without dialogs ----------------------------------------------------------------------------
@@ -59,9 +60,11 @@ bool ProjectFiles::load(const QString& path, QString* error) {
     bool project = false;
     if (suffix == QLatin1String("json")) {
         project = io::looksLikeCase(file);
-    } else if (suffix != QLatin1String("igs") && suffix != QLatin1String("iges")) {
+    } else if (!supported(path)) {
         if (error)
-            *error = tr("'%1': unsupported file type (expected a project .json, a patch set .json, .igs or .iges)").arg(path);
+            *error = tr("'%1': unsupported file type (expected a project .json, a patch set .json, .igs, .iges, .stp "
+                        "or .step)")
+                         .arg(path);
         return false;
     }
     if (!guarded([&] { project ? document_->openProject(path) : document_->newFromGeometry(path); }, error)) return false;
@@ -104,8 +107,8 @@ void ProjectFiles::chooseAndOpen() {
     if (!maybeSave()) return;
     const QString path = QFileDialog::getOpenFileName(
         window_, tr("Open"), lastDirectory_,
-        tr("Projects and geometry (*.json *.igs *.iges *.IGS *.IGES);;Aeroform project or patch set (*.json);;"
-           "IGES (*.igs *.iges *.IGS *.IGES);;All files (*)"));
+        tr("Projects and geometry (*.json *.igs *.iges *.IGS *.IGES *.stp *.step *.STP *.STEP);;Aeroform project or "
+           "patch set (*.json);;IGES (*.igs *.iges *.IGS *.IGES);;STEP (*.stp *.step *.STP *.STEP);;All files (*)"));
     if (path.isEmpty()) return;
     QString error;
     if (!load(path, &error)) QMessageBox::critical(window_, tr("Cannot open file"), error);
