@@ -14,6 +14,7 @@ int runMainWindowTest(int argc, char** argv, bool canRender);
 int runLatticeEditorTest(int argc, char** argv, bool canRender);
 int runMeshPreviewTest(int argc, char** argv, bool canRender);
 int runFlowSolveTest(int argc, char** argv, bool canRender);
+int runOptimizationWorkspaceTest(int argc, char** argv, bool canRender);
 
 int main(int argc, char** argv) {
     // Flow solves run in the background here too: OpenMP must wait passively (as the
@@ -41,5 +42,6 @@ int main(int argc, char** argv) {
     if (wanted("LatticeEditorTest")) failed += runLatticeEditorTest(argc, argv, canRender);
     if (wanted("MeshPreviewTest")) failed += runMeshPreviewTest(argc, argv, canRender);
     if (wanted("FlowSolveTest")) failed += runFlowSolveTest(argc, argv, canRender);
+    if (wanted("OptimizationWorkspaceTest")) failed += runOptimizationWorkspaceTest(argc, argv, canRender);
     return failed == 0 ? 0 : 1;
 }
