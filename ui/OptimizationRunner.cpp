@@ -1,5 +1,6 @@
 #include "OptimizationRunner.h"
 
+#include <QDir>
 #include <QFile>
 #include <QFileInfo>
 #include <QLocale>
@@ -53,7 +54,7 @@ QString statusLine(const OptimizationProgress& p, int evaluation) {
     return {};
 }
 
-QString statusName(optimize::Status s) {
+QString outcomeText(optimize::Status s) {
     switch (s) {
         case optimize::Status::Converged:
             return QObject::tr("Converged");
@@ -309,7 +310,7 @@ QString OptimizationRunner::stateText() const {
         case State::Stopped:
             return tr("Stopped with %1 recorded; an interrupted evaluation is solved again on Resume.").arg(evaluations);
         case State::Finished: {
-            QString s = outcome_ ? statusName(*outcome_) : tr("Finished");
+            QString s = outcome_ ? outcomeText(*outcome_) : tr("Finished");
             if (summary_)
                 s += tr(" after %1 iterations, %2").arg(summary_->result.iterations).arg(evaluations);
             if (!reason_.isEmpty()) s += QStringLiteral(": ") + reason_;
@@ -382,8 +383,9 @@ void OptimizationRunner::onLoadFinished(const std::optional<LoadedHistory>& load
     outcome_.reset();
     summary_.reset();
     reason_.clear();
+    state_ = State::Recorded;  // before the history's listeners look (the view shows a read-back history)
     emit historyReset();
-    setState(State::Recorded);
+    emit stateChanged();
 }
 
 void OptimizationRunner::loadHistoryOfProject() {

@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "OptimizationRunner.h"
+#include "OptimizationScene.h"  // CompareMode (the header has no VTK)
 
 class QWidget;
 
@@ -24,7 +25,6 @@ class Document;
 class JobRunner;
 class OptimizationPanel;
 class OptimizationPlots;
-class OptimizationScene;
 class VtkViewport;
 
 class OptimizationWorkspace : public QObject {

@@ -46,6 +46,7 @@
 #include "OptimizationRunner.h"
 #include "OptimizationScene.h"
 #include "OptimizationWorkspace.h"
+#include "OptionEditor.h"
 #include "PatchScene.h"
 #include "PlotWidget.h"
 #include "ResidualPlot.h"
@@ -288,7 +289,7 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
     referenceEvaluations_ = h.evaluationCount();
 
     // The GUI thread's own work never took a frame's budget (whatever else the machine runs).
-    QVERIFY(probe.ticks() > 50);
+    QVERIFY(probe.ticks() >= 20);
     QVERIFY2(probe.worstOwnCpuMs() < kFrameBudgetMs,
              qPrintable(QStringLiteral("the GUI thread worked %1 ms in one go").arg(probe.worstOwnCpuMs())));
     if (loadBefore <= 1.0)
