@@ -73,7 +73,7 @@ study::ProgressFn evaluationProgress(const char* cmd, bool quiet) {
         }
         const flow::FlowIteration& it = *p.iteration;
         if (it.rejected.empty() && (it.iteration % 10 == 0 || it.iteration <= 1)) {
-            say(cmd, format("flow iteration %.0f: relative residual %.3e, CFL %.3g, %.1f s", it.iteration, it.relativeResidual,
+            say(cmd, format("flow iteration %d: relative residual %.3e, CFL %.3g, %.1f s", it.iteration, it.relativeResidual,
                          it.cfl, it.seconds));
         }
     };
@@ -103,7 +103,7 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
         for (const std::string& n : names) study::checkGradientFunctional(n);
         study::CaseEvaluator ev(c, study::loadGeometry(c.geometry), [&](const std::string& s) { say(cmd, s); });
         const study::Evaluation e = evaluateOrThrow(ev, ev.caseValues(), cmd, false, "the case's design");
-        say(cmd, format("flow converged: CL %.6f, CD %.6f, %.0f iterations, %.1f s", e.flow->forces.CL, e.flow->forces.CD,
+        say(cmd, format("flow converged: CL %.6f, CD %.6f, %d iterations, %.1f s", e.flow->forces.CL, e.flow->forces.CD,
                      e.flow->report.iterations, e.secondsFlow));
         study::GradientOptions o;
         o.functionals = names;

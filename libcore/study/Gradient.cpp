@@ -89,7 +89,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         res.adjoints.push_back(adj.back().report);
         if (log) {
             log("flow adjoint of " + nameOf(b) +
-                format(": %.0f GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
+                format(": %d GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
                     adj.back().report.relativeResidual, adj.back().report.seconds));
         }
         if (!adj.back().report.converged()) {

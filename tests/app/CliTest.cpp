@@ -454,9 +454,16 @@ TEST(Cli, GradientAndGradientCheck) {
     EXPECT_EQ(L["gradient"].size(), j["variables"].get<std::size_t>());
     EXPECT_GT(j["variables"].get<int>(), 80);
     const double cl = L["value"], cd = D["value"];
+    // CL/CD's gradient comes from one adjoint of its own linearization, not from the quotient
+    // rule on the other two: they agree to the adjoint solves' tolerance, relative to the
+    // gradient's size.
+    double scale = 0;
+    for (auto it = R["gradient"].begin(); it != R["gradient"].end(); ++it)
+        scale = std::max(scale, std::abs(it.value().get<double>()));
+    ASSERT_GT(scale, 0);
     for (auto it = L["gradient"].begin(); it != L["gradient"].end(); ++it) {
         const double dl = it.value(), dd = D["gradient"][it.key()], dr = R["gradient"][it.key()];
-        EXPECT_NEAR(dr, (dl * cd - cl * dd) / (cd * cd), 1e-12 * (std::abs(dr) + 1e-12)) << it.key();
+        EXPECT_NEAR(dr, (dl * cd - cl * dd) / (cd * cd), 1e-8 * scale) << it.key();
     }
     EXPECT_GT(j["seconds"]["mesh_adjoint"].get<double>(), 0);
     EXPECT_NE(r.err.find("flow adjoint of CD"), std::string::npos) << r.err;

@@ -266,7 +266,10 @@ void FlowSolveTest::guiStaysResponsiveWhileSolving() {
     for (const auto& g : probe.slowGaps())
         qInfo("  gap %.1f ms: rendering %.1f ms, the GUI thread's own CPU %.1f ms", g[0], g[1], g[2]);
     QCOMPARE(s, State::Converged);
-    QVERIFY(probe.ticks() > 50);
+    // Enough gaps were measured to mean something. Not a fixed count per second: with a software
+    // OpenGL (llvmpipe under Xvfb) a gap may hold a 30-100 ms frame of the 3D view, and a fast
+    // machine converges this coarse case in a second or two.
+    QVERIFY2(probe.ticks() >= 20, qPrintable(QStringLiteral("%1 ticks").arg(probe.ticks())));
     QVERIFY(probe.frames() > 3);
     // Our work on the GUI thread (reports, plot, panels, the result's surfaces) never takes a
     // frame's budget, whatever the machine runs besides.
