@@ -14,7 +14,8 @@ void OptimizationHistory::clear() {
     iterations_.clear();
 }
 
-void OptimizationHistory::add(const study::OptimizationRecord& r, std::shared_ptr<const EvaluationSnapshot> snapshot) {
+void OptimizationHistory::add(const study::OptimizationRecord& r,
+                              std::shared_ptr<const EvaluationSnapshot> snapshot) {
     switch (r.kind) {
         case Kind::Header:
             header_ = r;
@@ -26,7 +27,9 @@ void OptimizationHistory::add(const study::OptimizationRecord& r, std::shared_pt
                 // A new evaluation with a number the history holds: what followed it is gone (a
                 // resumed run that left the recorded path, or a stop discarded it).
                 evaluations_.resize(k - 1);
-                std::erase_if(iterations_, [&](const study::OptimizationRecord& it) { return it.evaluations >= r.index; });
+                std::erase_if(iterations_, [&](const study::OptimizationRecord& it) {
+                    return it.evaluations >= r.index;
+                });
             }
             while (evaluations_.size() < k) {
                 Evaluation missing;
@@ -46,8 +49,9 @@ void OptimizationHistory::add(const study::OptimizationRecord& r, std::shared_pt
             gradient_ = r;
             break;
         case Kind::Iteration: {
-            auto it = std::find_if(iterations_.begin(), iterations_.end(),
-                                   [&](const study::OptimizationRecord& x) { return x.index == r.index; });
+            auto it = std::find_if(
+                iterations_.begin(), iterations_.end(),
+                [&](const study::OptimizationRecord& x) { return x.index == r.index; });
             if (it != iterations_.end()) {
                 *it = r;
             } else {
@@ -60,7 +64,8 @@ void OptimizationHistory::add(const study::OptimizationRecord& r, std::shared_pt
     }
 }
 
-void OptimizationHistory::setSnapshot(int index, std::shared_ptr<const EvaluationSnapshot> snapshot) {
+void OptimizationHistory::setSnapshot(int index,
+                                      std::shared_ptr<const EvaluationSnapshot> snapshot) {
     if (index < 1 || index > evaluationCount()) return;
     evaluations_[static_cast<std::size_t>(index - 1)].snapshot = std::move(snapshot);
     dropOldFlows();
@@ -72,7 +77,8 @@ const OptimizationHistory::Evaluation* OptimizationHistory::evaluation(int index
 }
 
 int OptimizationHistory::failedEvaluations() const {
-    return static_cast<int>(std::count_if(evaluations_.begin(), evaluations_.end(), [](const Evaluation& e) { return !e.record.ok; }));
+    return static_cast<int>(std::count_if(evaluations_.begin(), evaluations_.end(),
+                                          [](const Evaluation& e) { return !e.record.ok; }));
 }
 
 int OptimizationHistory::latestIterate() const {
@@ -80,18 +86,21 @@ int OptimizationHistory::latestIterate() const {
     const std::vector<double>& x = iterations_.back().x;
     for (auto it = evaluations_.rbegin(); it != evaluations_.rend(); ++it) {
         const std::vector<double>& y = it->record.x;
-        if (y.size() == x.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0) return it->record.index;
+        if (y.size() == x.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0)
+            return it->record.index;
     }
     return 0;
 }
 
 int OptimizationHistory::flowsKept() const {
-    return static_cast<int>(std::count_if(evaluations_.begin(), evaluations_.end(),
-                                          [](const Evaluation& e) { return e.snapshot && e.snapshot->flow; }));
+    return static_cast<int>(
+        std::count_if(evaluations_.begin(), evaluations_.end(),
+                      [](const Evaluation& e) { return e.snapshot && e.snapshot->flow; }));
 }
 
 void OptimizationHistory::dropOldFlows() {
-    // The newest keptFlows_ solutions stay, and the first evaluation's (the start, to compare with).
+    // The newest keptFlows_ solutions stay, and the first evaluation's (the start, to compare
+    // with).
     int kept = 0;
     for (auto it = evaluations_.rbegin(); it != evaluations_.rend(); ++it) {
         if (!it->snapshot || !it->snapshot->flow) continue;

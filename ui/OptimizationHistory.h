@@ -23,13 +23,14 @@ namespace aero::ui {
 class OptimizationHistory {
   public:
     struct Evaluation {
-        study::OptimizationRecord record;                   // kind Values
-        std::shared_ptr<const EvaluationSnapshot> snapshot; // null until known
+        study::OptimizationRecord record;                    // kind Values
+        std::shared_ptr<const EvaluationSnapshot> snapshot;  // null until known
     };
 
     void clear();
     /// Takes a record (and, for a values record, its snapshot).
-    void add(const study::OptimizationRecord& r, std::shared_ptr<const EvaluationSnapshot> snapshot = nullptr);
+    void add(const study::OptimizationRecord& r,
+             std::shared_ptr<const EvaluationSnapshot> snapshot = nullptr);
     /// Replaces the snapshot of evaluation `index` (e.g. after its flow was solved again).
     void setSnapshot(int index, std::shared_ptr<const EvaluationSnapshot> snapshot);
 

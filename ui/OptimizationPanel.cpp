@@ -27,8 +27,8 @@ namespace aero::ui {
 namespace {
 
 constexpr int kLogLines = 400;
-constexpr int kValueRole = Qt::UserRole + 1;   // dJ/dv of a sensitivity row (sorting, bar)
-constexpr int kScaleRole = Qt::UserRole + 2;   // the largest |dJ/dv| (the bar's full length)
+constexpr int kValueRole = Qt::UserRole + 1;  // dJ/dv of a sensitivity row (sorting, bar)
+constexpr int kScaleRole = Qt::UserRole + 2;  // the largest |dJ/dv| (the bar's full length)
 
 // The options the panel edits, in its order, with their labels.
 struct Shown {
@@ -60,9 +60,11 @@ constexpr Shown kConstraints[] = {
 class BarDelegate : public QStyledItemDelegate {
   public:
     using QStyledItemDelegate::QStyledItemDelegate;
-    void paint(QPainter* p, const QStyleOptionViewItem& option, const QModelIndex& index) const override {
+    void paint(QPainter* p, const QStyleOptionViewItem& option,
+               const QModelIndex& index) const override {
         QStyledItemDelegate::paint(p, option, QModelIndex());  // background and selection only
-        const double v = index.data(kValueRole).toDouble(), scale = index.data(kScaleRole).toDouble();
+        const double v = index.data(kValueRole).toDouble(),
+                     scale = index.data(kScaleRole).toDouble();
         const QRectF r = QRectF(option.rect).adjusted(4, 3, -4, -3);
         const double mid = r.center().x();
         p->save();
@@ -70,7 +72,8 @@ class BarDelegate : public QStyledItemDelegate {
         p->drawLine(QPointF(mid, r.top() - 2), QPointF(mid, r.bottom() + 2));
         if (scale > 0 && std::isfinite(v)) {
             const double w = 0.5 * r.width() * std::min(1.0, std::abs(v) / scale);
-            const QRectF bar = v >= 0 ? QRectF(mid, r.top(), w, r.height()) : QRectF(mid - w, r.top(), w, r.height());
+            const QRectF bar = v >= 0 ? QRectF(mid, r.top(), w, r.height())
+                                      : QRectF(mid - w, r.top(), w, r.height());
             p->fillRect(bar, v >= 0 ? QColor(52, 100, 186) : QColor(222, 128, 34));
         }
         p->restore();
@@ -86,7 +89,8 @@ class SensitivityItem : public QTreeWidgetItem {
     using QTreeWidgetItem::QTreeWidgetItem;
     bool operator<(const QTreeWidgetItem& other) const override {
         const int c = treeWidget() ? treeWidget()->sortColumn() : 0;
-        if (c == 1 || c == 2) return data(1, kValueRole).toDouble() < other.data(1, kValueRole).toDouble();
+        if (c == 1 || c == 2)
+            return data(1, kValueRole).toDouble() < other.data(1, kValueRole).toDouble();
         return QTreeWidgetItem::operator<(other);
     }
 };
@@ -109,10 +113,13 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     auto addEditor = [this](QFormLayout* f, QWidget* owner, const Shown& s) {
         const std::string key = s.key;
         auto* e = new OptionEditor(io::findOption(io::optimizationOptions(), key).spec, owner);
-        e->widget()->setToolTip(QStringLiteral("<p><b>optimization.%1</b></p>").arg(QString::fromStdString(key)) +
-                                e->widget()->toolTip() + tr("<p>An edit of the case (undoable); the next run uses it.</p>"));
+        e->widget()->setToolTip(
+            QStringLiteral("<p><b>optimization.%1</b></p>").arg(QString::fromStdString(key)) +
+            e->widget()->toolTip() +
+            tr("<p>An edit of the case (undoable); the next run uses it.</p>"));
         f->addRow(tr(s.label), e->widget());
-        connect(e, &OptionEditor::edited, this, [this, key](const io::OptionValue& v) { emit optionEdited(key, v); });
+        connect(e, &OptionEditor::edited, this,
+                [this, key](const io::OptionValue& v) { emit optionEdited(key, v); });
         rows_.push_back({key, e});
     };
     for (const Shown& s : kProblem) addEditor(form, problem, s);
@@ -127,8 +134,9 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     volume_->addItem(tr("Free"));
     volume_->addItem(tr("\u2265 the start's"));
     volume_->addItem(tr("\u2265 value"));
-    volume_->setToolTip(tr("<p><b>constraints.min_volume</b></p><p>The enclosed volume stays at least the start's "
-                           "(the paper's sphere-to-wing problem) or a given value, with its exact gradient.</p>"));
+    volume_->setToolTip(
+        tr("<p><b>constraints.min_volume</b></p><p>The enclosed volume stays at least the start's "
+           "(the paper's sphere-to-wing problem) or a given value, with its exact gradient.</p>"));
     volumeValue_ = new NumberBox(constraints);
     volumeValue_->setRange(1e-12, 1e12);
     volumeValue_->setValue(1.0);
@@ -158,21 +166,26 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     start_->setObjectName(QStringLiteral("optimizationStart"));
     pause_ = new QPushButton(tr("Pause"), run);
     pause_->setObjectName(QStringLiteral("optimizationPause"));
-    pause_->setToolTip(tr("Pause after the evaluation (or gradient) being computed: the history then ends on a whole "
-                          "record and Resume continues exactly where it stopped"));
+    pause_->setToolTip(tr(
+        "Pause after the evaluation (or gradient) being computed: the history then ends on a whole "
+        "record and Resume continues exactly where it stopped"));
     stop_ = new QPushButton(tr("Stop"), run);
     stop_->setObjectName(QStringLiteral("optimizationStop"));
-    stop_->setToolTip(tr("Stop within the current flow iteration; the evaluation it interrupts is solved again on Resume"));
+    stop_->setToolTip(
+        tr("Stop within the current flow iteration; the evaluation it interrupts is solved again "
+           "on Resume"));
     resume_ = new QPushButton(tr("Resume"), run);
     resume_->setObjectName(QStringLiteral("optimizationResume"));
-    resume_->setToolTip(tr("Continue the history: what it holds is replayed to the optimizer (not solved again), bit "
-                           "for bit, then the run goes on"));
+    resume_->setToolTip(tr(
+        "Continue the history: what it holds is replayed to the optimizer (not solved again), bit "
+        "for bit, then the run goes on"));
     for (QPushButton* b : {start_, pause_, stop_, resume_}) {
         b->setEnabled(false);
         buttons->addWidget(b);
     }
     runLayout->addLayout(buttons);
-    connect(start_, &QPushButton::clicked, this, [this] { startIsStartOver_ ? emit startOverRequested() : emit startRequested(); });
+    connect(start_, &QPushButton::clicked, this,
+            [this] { startIsStartOver_ ? emit startOverRequested() : emit startRequested(); });
     connect(pause_, &QPushButton::clicked, this, &OptimizationPanel::pauseRequested);
     connect(stop_, &QPushButton::clicked, this, &OptimizationPanel::stopRequested);
     connect(resume_, &QPushButton::clicked, this, &OptimizationPanel::resumeRequested);
@@ -201,7 +214,9 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     mono.setFamily(QStringLiteral("monospace"));
     mono.setPointSizeF(std::max(7.0, mono.pointSizeF() - 1));
     log_->setFont(mono);
-    log_->setToolTip(tr("The optimizer's log: evaluations, gradients and iterations as `aeroform-cli optimize` prints them"));
+    log_->setToolTip(
+        tr("The optimizer's log: evaluations, gradients and iterations as `aeroform-cli optimize` "
+           "prints them"));
     runLayout->addWidget(log_);
     layout->addWidget(run);
 
@@ -213,15 +228,18 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     slider_->setObjectName(QStringLiteral("optimizationHistorySlider"));
     slider_->setRange(0, 0);
     slider_->setPageStep(1);
-    slider_->setToolTip(tr("Brings back any evaluation: its numbers, shape, lattices and (when kept) flow fields"));
+    slider_->setToolTip(
+        tr("Brings back any evaluation: its numbers, shape, lattices and (when kept) flow fields"));
     slider_->setEnabled(false);
     sliderLabel_ = new QLabel(tr("\u2013"), eval);
-    sliderLabel_->setMinimumWidth(sliderLabel_->fontMetrics().horizontalAdvance(QStringLiteral("999 of 999")));
+    sliderLabel_->setMinimumWidth(
+        sliderLabel_->fontMetrics().horizontalAdvance(QStringLiteral("999 of 999")));
     sliderRow->addWidget(slider_, 1);
     sliderRow->addWidget(sliderLabel_);
     evalLayout->addLayout(sliderRow);
     connect(slider_, &QSlider::valueChanged, this, [this](int v) {
-        sliderLabel_->setText(v > 0 ? tr("%1 of %2").arg(v).arg(slider_->maximum()) : QStringLiteral("\u2013"));
+        sliderLabel_->setText(v > 0 ? tr("%1 of %2").arg(v).arg(slider_->maximum())
+                                    : QStringLiteral("\u2013"));
         if (follow_->isChecked() && v != slider_->maximum()) {
             const QSignalBlocker block(follow_);
             follow_->setChecked(false);  // the user went back: stay there
@@ -235,7 +253,8 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     follow_->setToolTip(tr("Show each new evaluation as it is recorded"));
     view_ = new QCheckBox(tr("Show in 3D view"), eval);
     view_->setObjectName(QStringLiteral("optimizationView"));
-    view_->setToolTip(tr("The evaluation takes the 3D view; uncheck to see the project's own design"));
+    view_->setToolTip(
+        tr("The evaluation takes the 3D view; uncheck to see the project's own design"));
     checks->addWidget(follow_);
     checks->addWidget(view_);
     checks->addStretch(1);
@@ -252,9 +271,11 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     eform->setFieldGrowthPolicy(QFormLayout::AllNonFixedFieldsGrow);
     field_ = new QComboBox(eval);
     field_->setObjectName(QStringLiteral("optimizationField"));
-    for (int f = 0; f < kFlowFields; ++f) field_->addItem(QString::fromUtf8(flowFieldLabel(static_cast<FlowField>(f))), f);
+    for (int f = 0; f < kFlowFields; ++f)
+        field_->addItem(QString::fromUtf8(flowFieldLabel(static_cast<FlowField>(f))), f);
     eform->addRow(tr("Field"), field_);
-    connect(field_, &QComboBox::currentIndexChanged, this, [this](int i) { emit fieldChanged(static_cast<FlowField>(i)); });
+    connect(field_, &QComboBox::currentIndexChanged, this,
+            [this](int i) { emit fieldChanged(static_cast<FlowField>(i)); });
     auto* compareRow = new QHBoxLayout;
     compare_ = new QSpinBox(eval);
     compare_->setObjectName(QStringLiteral("optimizationCompare"));
@@ -278,8 +299,9 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     use_->setToolTip(tr("The project takes this evaluation's design values (one undoable edit)"));
     solveFlow_ = new QPushButton(tr("Solve Its Flow"), eval);
     solveFlow_->setObjectName(QStringLiteral("optimizationSolveFlow"));
-    solveFlow_->setToolTip(tr("This evaluation's solution is not kept (replayed, read back or dropped for memory): "
-                              "solve its flow again to see its fields"));
+    solveFlow_->setToolTip(
+        tr("This evaluation's solution is not kept (replayed, read back or dropped for memory): "
+           "solve its flow again to see its fields"));
     exportShape_ = new QPushButton(tr("Export IGES..."), eval);
     exportShape_->setObjectName(QStringLiteral("optimizationExportShape"));
     exportShape_->setToolTip(tr("This evaluation's shape as exact IGES (17 digits)"));
@@ -305,8 +327,9 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     auto* fileButtons = new QHBoxLayout;
     auto* exportHistory = new QPushButton(tr("Export History..."), files);
     exportHistory->setObjectName(QStringLiteral("optimizationExportHistory"));
-    exportHistory->setToolTip(tr("The history as CSV (every evaluation and gradient; the major iterations beside it) "
-                                 "and its exact JSON lines"));
+    exportHistory->setToolTip(
+        tr("The history as CSV (every evaluation and gradient; the major iterations beside it) "
+           "and its exact JSON lines"));
     auto* exportPlots = new QPushButton(tr("Export Plots..."), files);
     exportPlots->setObjectName(QStringLiteral("optimizationExportPlots"));
     exportPlots->setToolTip(tr("Every plot as PNG and SVG, with its data as CSV, into a folder"));
@@ -320,7 +343,8 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     // Sensitivities.
     auto* sens = new QGroupBox(tr("Design sensitivities"), this);
     auto* sensLayout = new QVBoxLayout(sens);
-    sensitivityNote_ = new QLabel(tr("dJ/dv of every design variable appears here after the first gradient."), sens);
+    sensitivityNote_ = new QLabel(
+        tr("dJ/dv of every design variable appears here after the first gradient."), sens);
     sensitivityNote_->setWordWrap(true);
     sensitivityNote_->setStyleSheet(QStringLiteral("QLabel { color: #505868; }"));
     sensLayout->addWidget(sensitivityNote_);
@@ -333,20 +357,24 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     sensitivities_->setItemDelegateForColumn(2, new BarDelegate(sensitivities_));
     sensitivities_->header()->setStretchLastSection(true);
     sensitivities_->setMinimumHeight(160);
-    sensitivities_->setToolTip(tr("Click a header to sort: by name, or by the signed derivative (the bar: blue raises "
-                                  "J, orange lowers it, as the variable grows)"));
+    sensitivities_->setToolTip(
+        tr("Click a header to sort: by name, or by the signed derivative (the bar: blue raises "
+           "J, orange lowers it, as the variable grows)"));
     sensLayout->addWidget(sensitivities_);
     layout->addWidget(sens);
     layout->addStretch(1);
 }
 
-// ---- Case -----------------------------------------------------------------------------------------
+// ---- Case
+// -----------------------------------------------------------------------------------------
 
 void OptimizationPanel::setCase(const io::CaseFile& c, const QString& historyPath) {
     const io::OptimizationCase& oc = c.optimization;
-    for (Row& r : rows_) r.editor->setValue(io::findOption(io::optimizationOptions(), r.key).get(oc));
+    for (Row& r : rows_)
+        r.editor->setValue(io::findOption(io::optimizationOptions(), r.key).get(oc));
     note_->setText(oc.present ? tr("The case's optimization section; edits are undoable.")
-                              : tr("The case has no optimization yet: any choice below adds one (the defaults shown)."));
+                              : tr("The case has no optimization yet: any choice below adds one "
+                                   "(the defaults shown)."));
     {
         const QSignalBlocker block(volume_);
         volume_->setCurrentIndex(!c.minVolume ? 0 : std::isnan(*c.minVolume) ? 1 : 2);
@@ -357,8 +385,9 @@ void OptimizationPanel::setCase(const io::CaseFile& c, const QString& historyPat
     if (c.symmetry) linear << tr("symmetric across Y = 0");
     if (c.stationGap) linear << tr("adjacent stations at least %1 apart").arg(*c.stationGap);
     linear_->setText(linear.isEmpty() ? tr("none") : linear.join(QStringLiteral("; ")));
-    history_->setText(historyPath.isEmpty() ? tr("History: none yet (save the project: it is kept beside it).")
-                                            : tr("History: %1").arg(historyPath));
+    history_->setText(historyPath.isEmpty()
+                          ? tr("History: none yet (save the project: it is kept beside it).")
+                          : tr("History: %1").arg(historyPath));
 }
 
 OptionEditor* OptimizationPanel::editor(const std::string& key) const {
@@ -381,22 +410,28 @@ void OptimizationPanel::emitVolume() {
     }
 }
 
-// ---- Run ------------------------------------------------------------------------------------------
+// ---- Run
+// ------------------------------------------------------------------------------------------
 
-void OptimizationPanel::setRunState(const QString& text, Tone tone, const Actions& can, bool running) {
+void OptimizationPanel::setRunState(const QString& text, Tone tone, const Actions& can,
+                                    bool running) {
     status_->setText(text);
     const char* colour = tone == Tone::Busy      ? "#1f4e9a"
                          : tone == Tone::Good    ? "#1d6b2f"
                          : tone == Tone::Warning ? "#a05a00"
                          : tone == Tone::Bad     ? "#b00020"
                                                  : nullptr;
-    status_->setStyleSheet(colour ? QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(QLatin1String(colour))
-                                  : QString());
+    status_->setStyleSheet(
+        colour
+            ? QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(QLatin1String(colour))
+            : QString());
     startIsStartOver_ = can.startOver;
     start_->setText(can.startOver ? tr("Start Over") : tr("Start"));
-    start_->setToolTip(can.startOver ? tr("Start a new run from the case's design, replacing the history (asks first)")
-                                     : tr("Run the case's optimization: each evaluation a flow solve, each gradient an "
-                                          "adjoint; the history is written as it runs"));
+    start_->setToolTip(
+        can.startOver
+            ? tr("Start a new run from the case's design, replacing the history (asks first)")
+            : tr("Run the case's optimization: each evaluation a flow solve, each gradient an "
+                 "adjoint; the history is written as it runs"));
     start_->setEnabled(can.start || can.startOver);
     pause_->setEnabled(can.pause);
     stop_->setEnabled(can.stop);
@@ -423,7 +458,8 @@ void OptimizationPanel::clearLog() {
     log_->clear();
 }
 
-// ---- Evaluation -------------------------------------------------------------------------------------
+// ---- Evaluation
+// -------------------------------------------------------------------------------------
 
 void OptimizationPanel::setEvaluationCount(int count) {
     const QSignalBlocker block(slider_);
@@ -431,7 +467,8 @@ void OptimizationPanel::setEvaluationCount(int count) {
     slider_->setRange(count > 0 ? 1 : 0, count);
     slider_->setEnabled(count > 1);
     if (at > count || at < 1) slider_->setValue(count);
-    sliderLabel_->setText(slider_->value() > 0 ? tr("%1 of %2").arg(slider_->value()).arg(count) : QStringLiteral("\u2013"));
+    sliderLabel_->setText(slider_->value() > 0 ? tr("%1 of %2").arg(slider_->value()).arg(count)
+                                               : QStringLiteral("\u2013"));
     const QSignalBlocker blockCompare(compare_);
     compare_->setRange(0, count);
 }
@@ -443,8 +480,9 @@ int OptimizationPanel::evaluationCount() const {
 void OptimizationPanel::setCurrentEvaluation(int index) {
     const QSignalBlocker block(slider_);
     slider_->setValue(index);
-    sliderLabel_->setText(slider_->value() > 0 ? tr("%1 of %2").arg(slider_->value()).arg(slider_->maximum())
-                                               : QStringLiteral("\u2013"));
+    sliderLabel_->setText(slider_->value() > 0
+                              ? tr("%1 of %2").arg(slider_->value()).arg(slider_->maximum())
+                              : QStringLiteral("\u2013"));
 }
 
 int OptimizationPanel::currentEvaluation() const {
@@ -504,10 +542,11 @@ FlowField OptimizationPanel::field() const {
     return static_cast<FlowField>(field_->currentIndex());
 }
 
-// ---- Sensitivities -----------------------------------------------------------------------------------
+// ---- Sensitivities
+// -----------------------------------------------------------------------------------
 
-void OptimizationPanel::setSensitivities(const std::vector<std::string>& names, const std::vector<double>& dJdv,
-                                         const QString& note) {
+void OptimizationPanel::setSensitivities(const std::vector<std::string>& names,
+                                         const std::vector<double>& dJdv, const QString& note) {
     sensitivityNote_->setText(note);
     const int sortColumn = sensitivities_->sortColumn();
     const Qt::SortOrder order = sensitivities_->header()->sortIndicatorOrder();

@@ -74,8 +74,8 @@ class OptimizationPanel : public QWidget {
     bool follow() const;
     void setFollow(bool on);  // no signal
     bool viewShown() const;
-    void setViewShown(bool on);  // no signal
-    int comparedEvaluation() const;  // 0: none
+    void setViewShown(bool on);             // no signal
+    int comparedEvaluation() const;         // 0: none
     void setComparedEvaluation(int index);  // emits compareChanged
     CompareMode compareMode() const;
     void setCompareMode(CompareMode mode);  // emits compareChanged
@@ -83,7 +83,8 @@ class OptimizationPanel : public QWidget {
 
     /// The sensitivities at the last gradient: variable names and dJ/dv (J the case's objective,
     /// as the optimizer sees it: signs flipped when maximizing are undone). Empty: none yet.
-    void setSensitivities(const std::vector<std::string>& names, const std::vector<double>& dJdv, const QString& note);
+    void setSensitivities(const std::vector<std::string>& names, const std::vector<double>& dJdv,
+                          const QString& note);
     QTreeWidget* sensitivityList() const { return sensitivities_; }
 
     QPushButton* startButton() const { return start_; }

@@ -26,7 +26,8 @@ const QColor kShownBand(214, 228, 250);
 const QColor kComparedBand(236, 226, 250);
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-PlotWidget* makePlot(QWidget* parent, const char* name, const QString& title, const QString& yLabel, const QString& yUnit = {}) {
+PlotWidget* makePlot(QWidget* parent, const char* name, const QString& title, const QString& yLabel,
+                     const QString& yUnit = {}) {
     auto* p = new PlotWidget(parent);
     p->setObjectName(QString::fromLatin1(name));
     p->setTitle(title);
@@ -38,7 +39,8 @@ PlotWidget* makePlot(QWidget* parent, const char* name, const QString& title, co
     return p;
 }
 
-PlotSeries line(const QString& name, QColor colour, MarkerShape marker = MarkerShape::Circle, double width = 1.5) {
+PlotSeries line(const QString& name, QColor colour, MarkerShape marker = MarkerShape::Circle,
+                double width = 1.5) {
     PlotSeries s;
     s.name = name;
     s.colour = colour;
@@ -77,7 +79,9 @@ QString csvNumber(double v) {
 }
 
 QString csvText(QString s) {
-    if (!s.contains(QLatin1Char(',')) && !s.contains(QLatin1Char('"')) && !s.contains(QLatin1Char('\n'))) return s;
+    if (!s.contains(QLatin1Char(',')) && !s.contains(QLatin1Char('"')) &&
+        !s.contains(QLatin1Char('\n')))
+        return s;
     s.replace(QLatin1Char('"'), QStringLiteral("\"\""));
     s.replace(QLatin1Char('\n'), QLatin1Char(' '));
     return QLatin1Char('"') + s + QLatin1Char('"');
@@ -99,7 +103,8 @@ OptimizationPlots::OptimizationPlots(QWidget* parent) : QWidget(parent) {
     grid->setContentsMargins(2, 2, 2, 2);
     grid->setSpacing(4);
     objective_ = makePlot(this, "objectivePlot", tr("Objective"), objectiveLabel("CL/CD"));
-    optimality_ = makePlot(this, "optimalityPlot", tr("Optimality and feasibility"), tr("Optimality, violation"));
+    optimality_ = makePlot(this, "optimalityPlot", tr("Optimality and feasibility"),
+                           tr("Optimality, violation"));
     optimality_->yAxis().log = true;
     optimality_->setPlaceholder(tr("One point per major iteration"));
     lift_ = makePlot(this, "liftPlot", tr("Lift coefficient"), tr("CL"));
@@ -117,7 +122,8 @@ OptimizationPlots::OptimizationPlots(QWidget* parent) : QWidget(parent) {
         grid->addWidget(all[i], static_cast<int>(i / 4), static_cast<int>(i % 4));
     }
     for (int c = 0; c < 4; ++c) grid->setColumnStretch(c, 1);
-    for (PlotWidget* p : {objective_, lift_, drag_, ratio_, volume_, mach_}) p->setCsvWriter([this] { return evaluationsCsv(); });
+    for (PlotWidget* p : {objective_, lift_, drag_, ratio_, volume_, mach_})
+        p->setCsvWriter([this] { return evaluationsCsv(); });
     optimality_->setCsvWriter([this] { return iterationsCsv(); });
     rebuild();
 }
@@ -137,9 +143,12 @@ void OptimizationPlots::setProblem(const io::CaseFile& c) {
     optimalityTolerance_ = oc.optimalityTolerance;
     feasibilityTolerance_ = oc.feasibilityTolerance;
     objective_->yAxis().label = objectiveLabel(objectiveName_);
-    objective_->yAxis().unit = logObjective_ ? tr("(\u03c1\u221e a\u221e\u00b2)\u00b2 length\u00b2") : QString();
+    objective_->yAxis().unit =
+        logObjective_ ? tr("(\u03c1\u221e a\u221e\u00b2)\u00b2 length\u00b2") : QString();
     objective_->yAxis().log = logObjective_;
-    objective_->setTitle(tr("Objective: %1 %2").arg(maximize_ ? tr("maximize") : tr("minimize"), QString::fromStdString(objectiveName_)));
+    objective_->setTitle(tr("Objective: %1 %2")
+                             .arg(maximize_ ? tr("maximize") : tr("minimize"),
+                                  QString::fromStdString(objectiveName_)));
     rebuild();
 }
 
@@ -150,10 +159,12 @@ void OptimizationPlots::setHistory(const OptimizationHistory& h) {
     iterateEvaluation_.assign(iterations_.size(), 0);
     for (std::size_t i = 0; i < iterations_.size(); ++i) {
         const std::vector<double>& x = iterations_[i].x;
-        const int last = std::min<int>(iterations_[i].evaluations, static_cast<int>(evaluations_.size()));
+        const int last =
+            std::min<int>(iterations_[i].evaluations, static_cast<int>(evaluations_.size()));
         for (int k = last; k >= 1; --k) {
             const std::vector<double>& y = evaluations_[static_cast<std::size_t>(k - 1)].x;
-            if (y.size() == x.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0) {
+            if (y.size() == x.size() &&
+                std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0) {
                 iterateEvaluation_[i] = k;
                 break;
             }
@@ -195,8 +206,10 @@ void OptimizationPlots::rebuild() {
     PlotSeries feas = line(tr("feasibility (> 0)"), kFeasibility, MarkerShape::Square);
     for (std::size_t i = 0; i < iterations_.size(); ++i) {
         const double x = iterateEvaluation_[i];
-        opt.points.emplace_back(x, iterations_[i].optimality > 0 ? iterations_[i].optimality : kNaN);
-        feas.points.emplace_back(x, iterations_[i].feasibility > 0 ? iterations_[i].feasibility : kNaN);
+        opt.points.emplace_back(x,
+                                iterations_[i].optimality > 0 ? iterations_[i].optimality : kNaN);
+        feas.points.emplace_back(
+            x, iterations_[i].feasibility > 0 ? iterations_[i].feasibility : kNaN);
     }
     optimality_->addSeries(opt);
     optimality_->addSeries(feas);
@@ -219,23 +232,28 @@ void OptimizationPlots::rebuild() {
         for (const auto& r : evaluations_) s.points.emplace_back(r.index, value(r, get(r)));
         p->addSeries(s);
     };
-    forces(lift_, tr("CL"), QColor(34, 120, 90), [](const study::OptimizationRecord& r) { return r.CL; });
+    forces(lift_, tr("CL"), QColor(34, 120, 90),
+           [](const study::OptimizationRecord& r) { return r.CL; });
     if (liftConstraint_ && n > 0) {
         PlotSeries t = dashed(tr("target CL"), kBound);
         t.points = level(targetCL_, n);
         lift_->addSeries(t);
     }
-    forces(drag_, tr("CD"), QColor(176, 60, 40), [](const study::OptimizationRecord& r) { return r.CD; });
-    forces(ratio_, tr("L/D"), kIterate, [](const study::OptimizationRecord& r) { return r.CD != 0 ? r.CL / r.CD : kNaN; });
+    forces(drag_, tr("CD"), QColor(176, 60, 40),
+           [](const study::OptimizationRecord& r) { return r.CD; });
+    forces(ratio_, tr("L/D"), kIterate,
+           [](const study::OptimizationRecord& r) { return r.CD != 0 ? r.CL / r.CD : kNaN; });
 
     // Volume against its bound (every evaluation has one: it is known before the flow).
     volume_->clearSeries();
     PlotSeries v = line(tr("volume"), QColor(110, 70, 160));
-    for (const auto& r : evaluations_) v.points.emplace_back(r.index, std::isfinite(r.volume) ? r.volume : kNaN);
+    for (const auto& r : evaluations_)
+        v.points.emplace_back(r.index, std::isfinite(r.volume) ? r.volume : kNaN);
     volume_->addSeries(v);
     if (minVolume_ && n > 0) {
         const double bound = std::isnan(*minVolume_) ? evaluations_.front().volume : *minVolume_;
-        PlotSeries b = dashed(std::isnan(*minVolume_) ? tr("bound: the start's volume") : tr("bound"), kBound);
+        PlotSeries b =
+            dashed(std::isnan(*minVolume_) ? tr("bound: the start's volume") : tr("bound"), kBound);
         b.points = level(bound, n);
         volume_->addSeries(b);
     } else {
@@ -246,7 +264,8 @@ void OptimizationPlots::rebuild() {
     mach_->clearSeries();
     PlotSeries m = line(tr("max. Mach"), QColor(40, 40, 48));
     m.legend = false;
-    for (const auto& r : evaluations_) m.points.emplace_back(r.index, r.ok && r.maxMach > 0 ? r.maxMach : kNaN);
+    for (const auto& r : evaluations_)
+        m.points.emplace_back(r.index, r.ok && r.maxMach > 0 ? r.maxMach : kNaN);
     mach_->addSeries(m);
     if (n > 0) {
         PlotSeries sonic = dashed(tr("Mach 1"), QColor(190, 30, 40));
@@ -298,23 +317,27 @@ int OptimizationPlots::iterationPoints() const {
 }
 
 QString OptimizationPlots::evaluationsCsv() const {
-    QString out = QStringLiteral("evaluation,status,objective,J,CL,CD,L/D,volume,max_mach,alpha_deg,flow_iterations,message\n");
+    QString out = QStringLiteral(
+        "evaluation,status,objective,J,CL,CD,L/"
+        "D,volume,max_mach,alpha_deg,flow_iterations,message\n");
     for (const auto& r : evaluations_) {
         const double ld = r.ok && r.CD != 0 ? r.CL / r.CD : kNaN;
-        out += QStringLiteral("%1,%2,%3,%4,%5,%6,%7,%8,%9,%10,%11,%12\n")
-                   .arg(r.index)
-                   .arg(csvText(QString::fromStdString(r.status)))
-                   .arg(csvNumber(r.ok ? r.objective : kNaN), csvNumber(r.ok ? r.J : kNaN), csvNumber(r.ok ? r.CL : kNaN),
-                        csvNumber(r.ok ? r.CD : kNaN), csvNumber(ld), csvNumber(r.volume), csvNumber(r.ok ? r.maxMach : kNaN),
-                        csvNumber(r.alphaDeg))
-                   .arg(r.flowIterations)
-                   .arg(csvText(QString::fromStdString(r.message)));
+        out +=
+            QStringLiteral("%1,%2,%3,%4,%5,%6,%7,%8,%9,%10,%11,%12\n")
+                .arg(r.index)
+                .arg(csvText(QString::fromStdString(r.status)))
+                .arg(csvNumber(r.ok ? r.objective : kNaN), csvNumber(r.ok ? r.J : kNaN),
+                     csvNumber(r.ok ? r.CL : kNaN), csvNumber(r.ok ? r.CD : kNaN), csvNumber(ld),
+                     csvNumber(r.volume), csvNumber(r.ok ? r.maxMach : kNaN), csvNumber(r.alphaDeg))
+                .arg(r.flowIterations)
+                .arg(csvText(QString::fromStdString(r.message)));
     }
     return out;
 }
 
 QString OptimizationPlots::iterationsCsv() const {
-    QString out = QStringLiteral("iteration,evaluation,evaluations,gradients,objective,optimality,feasibility\n");
+    QString out = QStringLiteral(
+        "iteration,evaluation,evaluations,gradients,objective,optimality,feasibility\n");
     for (std::size_t i = 0; i < iterations_.size(); ++i) {
         const auto& r = iterations_[i];
         out += QStringLiteral("%1,%2,%3,%4,%5,%6,%7\n")
@@ -334,9 +357,11 @@ bool OptimizationPlots::exportAll(const QString& folder, QString* error) const {
         return false;
     }
     for (PlotWidget* p : plots()) {
-        if (p->width() < 100 || p->height() < 80) p->resize(p->sizeHint());  // never shown yet (a hidden dock)
+        if (p->width() < 100 || p->height() < 80)
+            p->resize(p->sizeHint());  // never shown yet (a hidden dock)
         const QString base = dir.filePath(plotFileName(p->title()));
-        if (!p->exportPng(base + QStringLiteral(".png")) || !p->exportSvg(base + QStringLiteral(".svg")) ||
+        if (!p->exportPng(base + QStringLiteral(".png")) ||
+            !p->exportSvg(base + QStringLiteral(".svg")) ||
             !p->exportCsv(base + QStringLiteral(".csv"))) {
             if (error) *error = tr("Cannot write '%1'.").arg(base);
             return false;

@@ -28,7 +28,8 @@ FlowRunProgress flowProgress(const study::Progress& p) {
 }
 
 // The shape stage alone at a design: what the optimizer's own iteration shapes are made of.
-std::shared_ptr<EvaluationSnapshot> shapeSnapshot(study::CaseEvaluator& ev, int index, const DesignPoint& d) {
+std::shared_ptr<EvaluationSnapshot> shapeSnapshot(study::CaseEvaluator& ev, int index,
+                                                  const DesignPoint& d) {
     study::EvaluationRequest request;
     request.mesh = false;
     request.flow = false;
@@ -46,7 +47,8 @@ std::shared_ptr<EvaluationSnapshot> shapeSnapshot(study::CaseEvaluator& ev, int 
 
 }  // namespace
 
-DesignPoint designPoint(const io::CaseFile& c, const std::vector<ffd::DesignVariable>& variables, const std::vector<double>& x) {
+DesignPoint designPoint(const io::CaseFile& c, const std::vector<ffd::DesignVariable>& variables,
+                        const std::vector<double>& x) {
     // As study::optimizeCase maps its variables (study/Optimization.cpp: `design` and `alphaOf`).
     const io::OptimizationCase& oc = c.optimization;
     DesignPoint d;
@@ -58,7 +60,8 @@ DesignPoint designPoint(const io::CaseFile& c, const std::vector<ffd::DesignVari
         d.values[i] = x[i] * scale;
     }
     const double alphaScale = oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0;
-    d.alphaDeg = oc.alphaVariable && x.size() > nv ? x[nv] * alphaScale : c.flow.freeStream.alphaDeg;
+    d.alphaDeg =
+        oc.alphaVariable && x.size() > nv ? x[nv] * alphaScale : c.flow.freeStream.alphaDeg;
     return d;
 }
 
@@ -87,11 +90,14 @@ std::shared_ptr<const FlowRunResult> keptSolution(const study::Evaluation& e) {
     return r;
 }
 
-OptimizationRunResult runOptimization(const OptimizationRunInput& in, const OptimizationProgressFn& report,
-                                      const std::atomic<bool>* cancel, const std::function<void()>& requestCancel) {
+OptimizationRunResult runOptimization(const OptimizationRunInput& in,
+                                      const OptimizationProgressFn& report,
+                                      const std::atomic<bool>* cancel,
+                                      const std::function<void()>& requestCancel) {
     OptimizationRunResult result;
     io::CaseFile c = in.caseFile;
-    if (!c.optimization.present) throw CaseError("the case has no \"optimization\" section: set one up first");
+    if (!c.optimization.present)
+        throw CaseError("the case has no \"optimization\" section: set one up first");
     auto log = [&report](const std::string& line) {
         if (!report) return;
         OptimizationProgress p;
@@ -152,7 +158,8 @@ OptimizationRunResult runOptimization(const OptimizationRunInput& in, const Opti
         if (report) report(std::move(p));
         // A pause takes effect once a whole record is on disk: the optimizer then finds the
         // cancel flag before its next evaluation or gradient and ends; resume replays it all.
-        if (in.pause && in.pause->load() && !r.replayed && (r.kind == Kind::Values || r.kind == Kind::Gradient) && !pausing) {
+        if (in.pause && in.pause->load() && !r.replayed &&
+            (r.kind == Kind::Values || r.kind == Kind::Gradient) && !pausing) {
             pausing = true;
             result.paused = true;
             if (requestCancel) requestCancel();
@@ -163,7 +170,8 @@ OptimizationRunResult runOptimization(const OptimizationRunInput& in, const Opti
     return result;
 }
 
-LoadedHistory loadOptimizationHistory(const geometry::PatchSet& baseline, const io::CaseFile& c, const std::atomic<bool>* cancel) {
+LoadedHistory loadOptimizationHistory(const geometry::PatchSet& baseline, const io::CaseFile& c,
+                                      const std::atomic<bool>* cancel) {
     LoadedHistory h;
     if (!c.optimization.present) throw CaseError("the case has no \"optimization\" section");
     h.records = study::readHistory(study::historyJsonlPath(c.optimization.history));

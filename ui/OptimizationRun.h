@@ -35,38 +35,39 @@ namespace aero::ui {
 
 /// One evaluation as the window shows it (shared, read-only once made).
 struct EvaluationSnapshot {
-    int index = 0;                                    // evaluation number, from 1
-    std::vector<double> values;                       // its design: the design variables in model order
-    double alphaDeg = 0;                              // its angle of attack
-    geometry::PatchSet shape;                         // the deformed geometry
-    std::vector<ffd::Lattice> lattices;               // the moved lattices
+    int index = 0;                       // evaluation number, from 1
+    std::vector<double> values;          // its design: the design variables in model order
+    double alphaDeg = 0;                 // its angle of attack
+    geometry::PatchSet shape;            // the deformed geometry
+    std::vector<ffd::Lattice> lattices;  // the moved lattices
     std::vector<ffd::InjectivityReport> injectivity;  // one per lattice
     std::shared_ptr<const FlowRunResult> flow;        // its solution and fields; null when not
-                                                      // kept (replayed, read back, or no flow stage)
+                                                // kept (replayed, read back, or no flow stage)
 };
 
 /// One report of a running optimization (typed progress: JobContext<OptimizationProgress>).
 struct OptimizationProgress {
     enum class Kind { Record, Flow, Log };
     Kind kind = Kind::Log;
-    study::OptimizationRecord record;                     // Record
-    std::shared_ptr<const EvaluationSnapshot> snapshot;   // Record of kind Values: the evaluation
-    FlowRunProgress flow;                                 // Flow: a stage line or a flow iteration
-    std::string line;                                     // Log
+    study::OptimizationRecord record;                    // Record
+    std::shared_ptr<const EvaluationSnapshot> snapshot;  // Record of kind Values: the evaluation
+    FlowRunProgress flow;                                // Flow: a stage line or a flow iteration
+    std::string line;                                    // Log
 };
 
 struct OptimizationRunInput {
-    geometry::PatchSet baseline;   // the case's geometry, loaded by the document
-    io::CaseFile caseFile;         // the document's case (optimization.history resolved)
-    bool resume = false;           // continue the history (replayed, then run on)
-    bool fresh = false;            // replace an existing history
-    bool keepFlow = true;          // send each evaluation's solution with its snapshot
+    geometry::PatchSet baseline;  // the case's geometry, loaded by the document
+    io::CaseFile caseFile;        // the document's case (optimization.history resolved)
+    bool resume = false;          // continue the history (replayed, then run on)
+    bool fresh = false;           // replace an existing history
+    bool keepFlow = true;         // send each evaluation's solution with its snapshot
     std::shared_ptr<std::atomic<bool>> pause;  // set by the GUI: stop at the next record boundary
 };
 
 struct OptimizationRunResult {
-    std::optional<study::OptimizationSummary> summary;  // how the optimizer ended (also when stopped)
-    bool paused = false;   // it stopped because `pause` was set, at a record boundary
+    std::optional<study::OptimizationSummary>
+        summary;          // how the optimizer ended (also when stopped)
+    bool paused = false;  // it stopped because `pause` was set, at a record boundary
     int lastRecordedEvaluation = 0;
 };
 
@@ -75,8 +76,10 @@ using OptimizationProgressFn = std::function<void(OptimizationProgress)>;
 /// Runs the case's optimization. `cancel` is polled by libcore between flow iterations;
 /// `requestCancel` sets it (the pause uses it at a record boundary). Throws aero::Error for a bad
 /// case or a history that cannot be resumed (as the CLI reports them).
-OptimizationRunResult runOptimization(const OptimizationRunInput& in, const OptimizationProgressFn& report,
-                                      const std::atomic<bool>* cancel, const std::function<void()>& requestCancel);
+OptimizationRunResult runOptimization(const OptimizationRunInput& in,
+                                      const OptimizationProgressFn& report,
+                                      const std::atomic<bool>* cancel,
+                                      const std::function<void()>& requestCancel);
 
 /// What an existing history holds, read back with every evaluation's shape.
 struct LoadedHistory {
@@ -96,7 +99,8 @@ struct DesignPoint {
     std::vector<double> values;
     double alphaDeg = 0;
 };
-DesignPoint designPoint(const io::CaseFile& c, const std::vector<ffd::DesignVariable>& variables, const std::vector<double>& x);
+DesignPoint designPoint(const io::CaseFile& c, const std::vector<ffd::DesignVariable>& variables,
+                        const std::vector<double>& x);
 
 /// A solution as the window keeps it: the evaluation's flow without what only the solver needs
 /// (the metrics), with the nodal fields and their ranges.

@@ -34,19 +34,28 @@ QString statusLine(const OptimizationProgress& p, int evaluation) {
     if (p.kind == OptimizationProgress::Kind::Record) {
         const study::OptimizationRecord& r = p.record;
         if (r.kind == Kind::Values)
-            return r.ok ? QObject::tr("Optimization: evaluation %1 done, J %2").arg(r.index).arg(num(r.J, 6))
-                        : QObject::tr("Optimization: evaluation %1 failed (%2)").arg(r.index).arg(QString::fromStdString(r.status));
-        if (r.kind == Kind::Gradient) return QObject::tr("Optimization: gradient %1 done").arg(r.index);
-        if (r.kind == Kind::Iteration) return QObject::tr("Optimization: iteration %1").arg(r.index);
+            return r.ok ? QObject::tr("Optimization: evaluation %1 done, J %2")
+                              .arg(r.index)
+                              .arg(num(r.J, 6))
+                        : QObject::tr("Optimization: evaluation %1 failed (%2)")
+                              .arg(r.index)
+                              .arg(QString::fromStdString(r.status));
+        if (r.kind == Kind::Gradient)
+            return QObject::tr("Optimization: gradient %1 done").arg(r.index);
+        if (r.kind == Kind::Iteration)
+            return QObject::tr("Optimization: iteration %1").arg(r.index);
         return {};
     }
     if (p.kind == OptimizationProgress::Kind::Flow) {
         if (!p.flow.hasIteration) {
             QString s = QString::fromStdString(p.flow.message);
-            return s.isEmpty() ? QString() : QObject::tr("Optimization, evaluation %1: %2").arg(evaluation).arg(s);
+            return s.isEmpty()
+                       ? QString()
+                       : QObject::tr("Optimization, evaluation %1: %2").arg(evaluation).arg(s);
         }
         const flow::FlowIteration& it = p.flow.iteration;
-        return QObject::tr("Optimization, evaluation %1: flow iteration %2, residual %3 of the start")
+        return QObject::tr(
+                   "Optimization, evaluation %1: flow iteration %2, residual %3 of the start")
             .arg(evaluation)
             .arg(p.flow.iterationOffset + it.iteration)
             .arg(QString::number(it.relativeResidual, 'e', 2));
@@ -74,6 +83,15 @@ QString outcomeText(optimize::Status s) {
     return {};
 }
 
+// libcore's messages name the command line's options; the window has buttons for them.
+QString inWindowTerms(QString why) {
+    why.replace(QStringLiteral("start over with --fresh"),
+                QObject::tr("Start Over replaces the history"));
+    why.replace(QStringLiteral(" (--resume)"), QString());
+    why.replace(QStringLiteral(" (--fresh)"), QString());
+    return why;
+}
+
 }  // namespace
 
 struct OptimizationRunner::Slot {
@@ -82,7 +100,8 @@ struct OptimizationRunner::Slot {
 
 OptimizationRunner::OptimizationRunner(Document* document, JobRunner* jobs, QObject* parent)
     : QObject(parent), document_(document), jobs_(jobs) {
-    history_.setKeptFlows(std::max(1, setting(QStringLiteral("optimization/keptSolutions")).toInt()));
+    history_.setKeptFlows(
+        std::max(1, setting(QStringLiteral("optimization/keptSolutions")).toInt()));
     connect(document_, &Document::reset, this, &OptimizationRunner::onReset);
 }
 
@@ -102,7 +121,8 @@ QString OptimizationRunner::historyPath() const {
 
 QString OptimizationRunner::historyJsonlPath() const {
     const QString csv = historyPath();
-    return csv.isEmpty() ? QString() : QFile::decodeName(study::historyJsonlPath(encode(csv)).c_str());
+    return csv.isEmpty() ? QString()
+                         : QFile::decodeName(study::historyJsonlPath(encode(csv)).c_str());
 }
 
 bool OptimizationRunner::historyExists() const {
@@ -118,12 +138,18 @@ bool OptimizationRunner::runCase(io::CaseFile& c, QString* error) const {
     if (!document_->hasGeometry()) return fail(tr("Open a geometry first."));
     c = document_->caseFile();
     if (!c.optimization.present)
-        return fail(tr("The case has no optimization yet: choose its objective and limits in the Optimization panel."));
+        return fail(
+            tr("The case has no optimization yet: choose its objective and limits in the "
+               "Optimization panel."));
     if (!document_->model() || document_->model()->design().size() == 0)
-        return fail(tr("The case has no design variables to optimize: add a lattice with station variables first."));
+        return fail(
+            tr("The case has no design variables to optimize: add a lattice with station variables "
+               "first."));
     const QString history = historyPath();
     if (history.isEmpty())
-        return fail(tr("Save the project first: the optimization keeps its history beside it (optimization.history)."));
+        return fail(
+            tr("Save the project first: the optimization keeps its history beside it "
+               "(optimization.history)."));
     c.optimization.history = encode(history);
     c.flow.present = true;
     return true;
@@ -133,7 +159,8 @@ bool OptimizationRunner::runCase(io::CaseFile& c, QString* error) const {
 
 bool OptimizationRunner::start(Start how, QString* error) {
     if (job_ || loadJob_) {
-        if (error) *error = tr("An optimization is running: one at a time. Pause or stop it first.");
+        if (error)
+            *error = tr("An optimization is running: one at a time. Pause or stop it first.");
         return false;
     }
     io::CaseFile c;
@@ -141,11 +168,14 @@ bool OptimizationRunner::start(Start how, QString* error) {
     const bool exists = historyExists();
     if (how == Start::New && exists) {
         if (error)
-            *error = tr("The history %1 exists: resume it, or start over (which replaces it).").arg(historyJsonlPath());
+            *error = tr("The history %1 exists: resume it, or start over (which replaces it).")
+                         .arg(historyJsonlPath());
         return false;
     }
     if (how == Start::Resume && !exists) {
-        if (error) *error = tr("There is no history to resume (%1 does not exist).").arg(historyJsonlPath());
+        if (error)
+            *error =
+                tr("There is no history to resume (%1 does not exist).").arg(historyJsonlPath());
         return false;
     }
     auto input = std::make_shared<OptimizationRunInput>();
@@ -174,14 +204,16 @@ bool OptimizationRunner::start(Start how, QString* error) {
     spec.work = [input, slot = slot_](const JobContext<OptimizationProgress>& ctx) {
         int evaluation = 1;  // the evaluation the flow reports belong to
         auto report = [&ctx, &evaluation](OptimizationProgress p) {
-            if (p.kind == OptimizationProgress::Kind::Record && p.record.kind == Kind::Values) evaluation = p.record.index + 1;
+            if (p.kind == OptimizationProgress::Kind::Record && p.record.kind == Kind::Values)
+                evaluation = p.record.index + 1;
             if (p.kind != OptimizationProgress::Kind::Log) {
                 const QString line = statusLine(p, evaluation);
                 if (!line.isEmpty()) ctx.status(-1, line);
             }
             ctx.report(std::move(p));
         };
-        slot->run = runOptimization(*input, report, ctx.cancelFlag(), [&ctx] { ctx.requestCancel(); });
+        slot->run =
+            runOptimization(*input, report, ctx.cancelFlag(), [&ctx] { ctx.requestCancel(); });
     };
     spec.progress = [self, generation](const OptimizationProgress& p) {
         if (self && generation == self->generation_) self->onReport(p);
@@ -190,8 +222,9 @@ bool OptimizationRunner::start(Start how, QString* error) {
     connect(job_, &Job::finished, this, &OptimizationRunner::onJobFinished);
     setState(State::Running);
     emit started(how == Start::Resume);
-    emit message(how == Start::Resume ? tr("Optimization: resuming %1").arg(historyJsonlPath())
-                                      : tr("Optimization started; its history goes to %1").arg(historyPath()),
+    emit message(how == Start::Resume
+                     ? tr("Optimization: resuming %1").arg(historyJsonlPath())
+                     : tr("Optimization started; its history goes to %1").arg(historyPath()),
                  6000);
     return true;
 }
@@ -200,7 +233,8 @@ void OptimizationRunner::pause() {
     if (!job_ || state_ != State::Running) return;
     pause_->store(true);
     setState(State::Pausing);
-    emit message(tr("The optimization pauses after the evaluation (or gradient) it is computing."), 8000);
+    emit message(tr("The optimization pauses after the evaluation (or gradient) it is computing."),
+                 8000);
 }
 
 void OptimizationRunner::stop() {
@@ -226,7 +260,8 @@ int OptimizationRunner::currentEvaluation() const {
 void OptimizationRunner::onReport(const OptimizationProgress& p) {
     switch (p.kind) {
         case OptimizationProgress::Kind::Record:
-            if (p.record.kind == Kind::Values && !p.record.replayed) lastNewEvaluation_ = p.record.index;
+            if (p.record.kind == Kind::Values && !p.record.replayed)
+                lastNewEvaluation_ = p.record.index;
             history_.add(p.record, p.snapshot);
             emit recordAdded(p.record);
             if (p.record.kind == Kind::Values) emit stateChanged();  // the running text names it
@@ -252,7 +287,8 @@ void OptimizationRunner::onJobFinished() {
         return;
     }
     if (how == Job::State::Failed || !slot || !slot->run) {
-        reason_ = how == Job::State::Failed ? error : tr("the run ended without a result");
+        reason_ =
+            how == Job::State::Failed ? inWindowTerms(error) : tr("the run ended without a result");
         if (how == Job::State::Cancelled && (!slot || !slot->run)) {
             setState(State::Stopped);  // cancelled before the optimizer started
         } else {
@@ -294,7 +330,8 @@ QString OptimizationRunner::stateText() const {
         if (!last || last->record.ok) return {};
         return tr("; evaluation %1 failed: %2: %3")
             .arg(last->record.index)
-            .arg(QString::fromStdString(last->record.status), QString::fromStdString(last->record.message));
+            .arg(QString::fromStdString(last->record.status),
+                 QString::fromStdString(last->record.message));
     };
     switch (state_) {
         case State::None:
@@ -306,13 +343,18 @@ QString OptimizationRunner::stateText() const {
             if (stopRequested_) return tr("Stopping within the current flow iteration...");
             return tr("Pausing after evaluation %1 (or its gradient)...").arg(n + 1);
         case State::Paused:
-            return tr("Paused after %1: the history ends on a whole record; Resume continues it.").arg(evaluations);
+            return tr("Paused after %1: the history ends on a whole record; Resume continues it.")
+                .arg(evaluations);
         case State::Stopped:
-            return tr("Stopped with %1 recorded; an interrupted evaluation is solved again on Resume.").arg(evaluations);
+            return tr("Stopped with %1 recorded; an interrupted evaluation is solved again on "
+                      "Resume.")
+                .arg(evaluations);
         case State::Finished: {
             QString s = outcome_ ? outcomeText(*outcome_) : tr("Finished");
             if (summary_)
-                s += tr(" after %1 iterations, %2").arg(summary_->result.iterations).arg(evaluations);
+                s += tr(" after %1 iterations, %2")
+                         .arg(summary_->result.iterations)
+                         .arg(evaluations);
             if (!reason_.isEmpty()) s += QStringLiteral(": ") + reason_;
             return s + QLatin1Char('.');
         }
@@ -325,7 +367,8 @@ QString OptimizationRunner::stateText() const {
     return {};
 }
 
-// ---- Reading a history back --------------------------------------------------------------------------
+// ---- Reading a history back
+// --------------------------------------------------------------------------
 
 bool OptimizationRunner::loadHistory(QString* error) {
     if (job_ || loadJob_) {
@@ -356,10 +399,12 @@ bool OptimizationRunner::loadHistory(QString* error) {
         if (!self) return;
         self->loadJob_ = nullptr;
         if (generation != self->generation_) {
-            self->loadHistoryOfProject();  // the old document's reading ended: the new one's may start
+            self->loadHistoryOfProject();  // the old document's reading ended: the new one's may
+                                           // start
             return;
         }
-        self->onLoadFinished(job->state() == Job::State::Finished ? *loaded : std::nullopt, job->error());
+        self->onLoadFinished(job->state() == Job::State::Finished ? *loaded : std::nullopt,
+                             job->error());
     });
     return true;
 }
@@ -368,32 +413,38 @@ bool OptimizationRunner::loading() const {
     return !loadJob_.isNull();
 }
 
-void OptimizationRunner::onLoadFinished(const std::optional<LoadedHistory>& loaded, const QString& error) {
+void OptimizationRunner::onLoadFinished(const std::optional<LoadedHistory>& loaded,
+                                        const QString& error) {
     if (!loaded) {
-        if (!error.isEmpty()) emit message(tr("Cannot read the optimization history: %1").arg(error), 15000);
+        if (!error.isEmpty())
+            emit message(tr("Cannot read the optimization history: %1").arg(error), 15000);
         return;
     }
     history_.clear();
     std::size_t s = 0;
     for (const study::OptimizationRecord& r : loaded->records) {
         std::shared_ptr<const EvaluationSnapshot> snapshot;
-        if (r.kind == Kind::Values && s < loaded->snapshots.size()) snapshot = loaded->snapshots[s++];
+        if (r.kind == Kind::Values && s < loaded->snapshots.size())
+            snapshot = loaded->snapshots[s++];
         history_.add(r, snapshot);
     }
     outcome_.reset();
     summary_.reset();
     reason_.clear();
-    state_ = State::Recorded;  // before the history's listeners look (the view shows a read-back history)
+    state_ = State::Recorded;  // before the history's listeners look (the view shows a read-back
+                               // history)
     emit historyReset();
     emit stateChanged();
 }
 
 void OptimizationRunner::loadHistoryOfProject() {
     if (state_ != State::None || job_ || loadJob_ || !history_.empty()) return;
-    if (document_->hasGeometry() && document_->caseFile().optimization.present && historyExists()) loadHistory();
+    if (document_->hasGeometry() && document_->caseFile().optimization.present && historyExists())
+        loadHistory();
 }
 
-// ---- An evaluation's flow, solved again -------------------------------------------------------------
+// ---- An evaluation's flow, solved again
+// -------------------------------------------------------------
 
 bool OptimizationRunner::solveEvaluationFlow(int index, QString* error) {
     const OptimizationHistory::Evaluation* e = history_.evaluation(index);
@@ -415,7 +466,8 @@ bool OptimizationRunner::solveEvaluationFlow(int index, QString* error) {
     const auto& vars = model->design().variables();
     auto input = std::make_shared<FlowRunInput>();
     input->baseline = document_->baseline();
-    for (std::size_t i = 0; i < vars.size() && i < e->snapshot->values.size(); ++i) c.values[vars[i].name] = e->snapshot->values[i];
+    for (std::size_t i = 0; i < vars.size() && i < e->snapshot->values.size(); ++i)
+        c.values[vars[i].name] = e->snapshot->values[i];
     c.flow.freeStream.alphaDeg = e->snapshot->alphaDeg;
     input->caseFile = std::move(c);
     auto result = std::make_shared<std::shared_ptr<FlowRunResult>>();
@@ -448,7 +500,9 @@ bool OptimizationRunner::solveEvaluationFlow(int index, QString* error) {
         emit self->snapshotChanged(index);
         emit self->message((*result)->status == study::EvaluationStatus::Ok
                                ? tr("The flow of evaluation %1 is solved again.").arg(index)
-                               : tr("The flow of evaluation %1: %2").arg(index).arg(QString::fromStdString((*result)->message)),
+                               : tr("The flow of evaluation %1: %2")
+                                     .arg(index)
+                                     .arg(QString::fromStdString((*result)->message)),
                            8000);
     };
     flowJob_ = jobs_->start(std::move(spec));
@@ -459,7 +513,8 @@ bool OptimizationRunner::solvingEvaluation() const {
     return !flowJob_.isNull();
 }
 
-// ---- Following the document ----------------------------------------------------------------------
+// ---- Following the document
+// ----------------------------------------------------------------------
 
 void OptimizationRunner::onReset() {
     ++generation_;  // jobs still running belong to the previous document (they end on their own)

@@ -35,8 +35,10 @@ vtkSmartPointer<vtkPolyData> sampledShape(const geometry::PatchSet& set) {
     std::vector<double> us(kSamples), vs(kSamples), xyz(3 * kSamples * kSamples);
     for (const geometry::Patch& p : set.patches) {
         if (p.knotsU.empty() || p.knotsV.empty()) continue;
-        const double u0 = p.knotsU[static_cast<std::size_t>(p.degreeU)], u1 = p.knotsU[static_cast<std::size_t>(p.countU)];
-        const double v0 = p.knotsV[static_cast<std::size_t>(p.degreeV)], v1 = p.knotsV[static_cast<std::size_t>(p.countV)];
+        const double u0 = p.knotsU[static_cast<std::size_t>(p.degreeU)],
+                     u1 = p.knotsU[static_cast<std::size_t>(p.countU)];
+        const double v0 = p.knotsV[static_cast<std::size_t>(p.degreeV)],
+                     v1 = p.knotsV[static_cast<std::size_t>(p.countV)];
         for (int i = 0; i < kSamples; ++i) {
             const double t = static_cast<double>(i) / (kSamples - 1);
             us[static_cast<std::size_t>(i)] = u0 + t * (u1 - u0);
@@ -44,7 +46,8 @@ vtkSmartPointer<vtkPolyData> sampledShape(const geometry::PatchSet& set) {
         }
         nurbs::sampleGrid(p, us, vs, xyz.data());
         const vtkIdType base = points->GetNumberOfPoints();
-        for (int k = 0; k < kSamples * kSamples; ++k) points->InsertNextPoint(&xyz[3 * static_cast<std::size_t>(k)]);
+        for (int k = 0; k < kSamples * kSamples; ++k)
+            points->InsertNextPoint(&xyz[3 * static_cast<std::size_t>(k)]);
         for (int j = 0; j + 1 < kSamples; ++j)
             for (int i = 0; i + 1 < kSamples; ++i) {
                 const vtkIdType a = base + i + static_cast<vtkIdType>(kSamples) * j;
@@ -102,9 +105,12 @@ struct OptimizationScene::Impl {
     bool latticesVisible = true;
     std::array<double, 3> offset{0, 0, 0};
 
-    bool shownHasFlow() const { return shown && shown->flow && shown->flow->flow && !shown->flow->fields[0].empty(); }
+    bool shownHasFlow() const {
+        return shown && shown->flow && shown->flow->flow && !shown->flow->fields[0].empty();
+    }
     bool comparedHasFlow() const {
-        return compared && compared->flow && compared->flow->flow && !compared->flow->fields[0].empty();
+        return compared && compared->flow && compared->flow->flow &&
+               !compared->flow->fields[0].empty();
     }
 
     // Bounds of a snapshot's geometry (its control points: they contain the surfaces).
@@ -156,7 +162,8 @@ struct OptimizationScene::Impl {
             const double span = std::max(a[3] - a[2], b[3] - b[2]);
             offset = {0, a[3] - b[2] + 0.25 * span, 0};
         }
-        const bool compareFlowOn = compareOn && mode == CompareMode::SideBySide && comparedHasFlow();
+        const bool compareFlowOn =
+            compareOn && mode == CompareMode::SideBySide && comparedHasFlow();
         const std::shared_ptr<const FlowRunResult> other = compareFlowOn ? compared->flow : nullptr;
         if (compareFlow->result() != other.get()) compareFlow->setResult(other);
         compareFlow->setShown(compareFlowOn);
@@ -217,7 +224,8 @@ const EvaluationSnapshot* OptimizationScene::shown() const {
     return d_->shown.get();
 }
 
-void OptimizationScene::setCompared(std::shared_ptr<const EvaluationSnapshot> evaluation, CompareMode mode) {
+void OptimizationScene::setCompared(std::shared_ptr<const EvaluationSnapshot> evaluation,
+                                    CompareMode mode) {
     d_->compared = std::move(evaluation);
     d_->mode = mode;
     d_->update();
@@ -297,7 +305,8 @@ std::vector<double> OptimizationScene::viewPoints() const {
         }
     };
     corners(Impl::bounds(*d_->shown), {0, 0, 0});
-    if (d_->compared && d_->mode != CompareMode::Off) corners(Impl::bounds(*d_->compared), d_->offset);
+    if (d_->compared && d_->mode != CompareMode::Off)
+        corners(Impl::bounds(*d_->compared), d_->offset);
     return out;
 }
 

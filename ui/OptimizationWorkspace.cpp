@@ -63,7 +63,8 @@ std::string captionOf(const OptimizationHistory::Evaluation& e, const std::strin
     std::string s = "Evaluation " + std::to_string(r.index);
     char buf[160];
     if (r.ok) {
-        std::snprintf(buf, sizeof buf, ": %s %.6g, CL %.4f, CD %.5f", objective.c_str(), r.J, r.CL, r.CD);
+        std::snprintf(buf, sizeof buf, ": %s %.6g, CL %.4f, CD %.5f", objective.c_str(), r.J, r.CL,
+                      r.CD);
         s += buf;
     } else {
         s += ": failed (" + r.status + ")";
@@ -74,26 +75,37 @@ std::string captionOf(const OptimizationHistory::Evaluation& e, const std::strin
 
 }  // namespace
 
-OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs, VtkViewport* viewport,
-                                             OptimizationScene* scene, QWidget* parentWidget, QObject* parent)
-    : QObject(parent), document_(document), viewport_(viewport), scene_(scene), dialogParent_(parentWidget) {
+OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs,
+                                             VtkViewport* viewport, OptimizationScene* scene,
+                                             QWidget* parentWidget, QObject* parent)
+    : QObject(parent),
+      document_(document),
+      viewport_(viewport),
+      scene_(scene),
+      dialogParent_(parentWidget) {
     runner_ = new OptimizationRunner(document, jobs, this);
     panel_ = new OptimizationPanel(parentWidget);
     plots_ = new OptimizationPlots(parentWidget);
 
     // The case's problem in the panel; the panel's edits as undoable edits of the case.
     connect(document_, &Document::reset, this, &OptimizationWorkspace::showCase);
-    connect(document_, &Document::optimizationOptionsChanged, this, &OptimizationWorkspace::showCase);
+    connect(document_, &Document::optimizationOptionsChanged, this,
+            &OptimizationWorkspace::showCase);
     connect(document_, &Document::flowOptionsChanged, this, &OptimizationWorkspace::showCase);
-    connect(document_, &Document::titleChanged, this, &OptimizationWorkspace::showCase);  // the history's place
+    connect(document_, &Document::titleChanged, this,
+            &OptimizationWorkspace::showCase);  // the history's place
     connect(document_, &Document::structureChanged, this, &OptimizationWorkspace::showCase);
-    connect(panel_, &OptimizationPanel::optionEdited, this, [this](const std::string& key, const io::OptionValue& v) {
-        QString error;
-        if (!ProjectFiles::guarded([&] { document_->setOption(Document::Section::Optimization, key, v); }, &error)) {
-            showCase();
-            QMessageBox::critical(dialogParent_, tr("Cannot change the optimization"), error);
-        }
-    });
+    connect(panel_, &OptimizationPanel::optionEdited, this,
+            [this](const std::string& key, const io::OptionValue& v) {
+                QString error;
+                if (!ProjectFiles::guarded(
+                        [&] { document_->setOption(Document::Section::Optimization, key, v); },
+                        &error)) {
+                    showCase();
+                    QMessageBox::critical(dialogParent_, tr("Cannot change the optimization"),
+                                          error);
+                }
+            });
     connect(panel_, &OptimizationPanel::volumeEdited, this, [this](std::optional<double> minimum) {
         QString error;
         if (!ProjectFiles::guarded([&] { document_->setMinVolume(minimum); }, &error)) {
@@ -104,7 +116,8 @@ OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs
 
     // Running.
     connect(panel_, &OptimizationPanel::startRequested, this, &OptimizationWorkspace::start);
-    connect(panel_, &OptimizationPanel::startOverRequested, this, &OptimizationWorkspace::startOver);
+    connect(panel_, &OptimizationPanel::startOverRequested, this,
+            &OptimizationWorkspace::startOver);
     connect(panel_, &OptimizationPanel::pauseRequested, this, &OptimizationWorkspace::pause);
     connect(panel_, &OptimizationPanel::stopRequested, this, &OptimizationWorkspace::stop);
     connect(panel_, &OptimizationPanel::resumeRequested, this, &OptimizationWorkspace::resume);
@@ -116,9 +129,11 @@ OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs
         panel_->setFollow(true);
         setViewShown(true);
     });
-    connect(runner_, &OptimizationRunner::stateChanged, this, &OptimizationWorkspace::onStateChanged);
+    connect(runner_, &OptimizationRunner::stateChanged, this,
+            &OptimizationWorkspace::onStateChanged);
     connect(runner_, &OptimizationRunner::recordAdded, this, &OptimizationWorkspace::onRecord);
-    connect(runner_, &OptimizationRunner::historyReset, this, &OptimizationWorkspace::onHistoryReset);
+    connect(runner_, &OptimizationRunner::historyReset, this,
+            &OptimizationWorkspace::onHistoryReset);
     connect(runner_, &OptimizationRunner::snapshotChanged, this, [this](int index) {
         if (index == shown_ || index == compared_) showEvaluation(shown_);
     });
@@ -142,22 +157,27 @@ OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs
     });
     connect(panel_, &OptimizationPanel::useDesignRequested, this, [this] {
         QString error;
-        if (!useShownDesign(&error)) QMessageBox::critical(dialogParent_, tr("Cannot use the design"), error);
+        if (!useShownDesign(&error))
+            QMessageBox::critical(dialogParent_, tr("Cannot use the design"), error);
     });
     connect(panel_, &OptimizationPanel::solveFlowRequested, this, [this] {
         QString error;
         if (!runner_->solveEvaluationFlow(shown_, &error)) emit message(error, 8000);
     });
-    connect(panel_, &OptimizationPanel::exportShapeRequested, this, &OptimizationWorkspace::chooseAndExportShape);
-    connect(panel_, &OptimizationPanel::exportHistoryRequested, this, &OptimizationWorkspace::chooseAndExportHistory);
-    connect(panel_, &OptimizationPanel::exportPlotsRequested, this, &OptimizationWorkspace::chooseAndExportPlots);
+    connect(panel_, &OptimizationPanel::exportShapeRequested, this,
+            &OptimizationWorkspace::chooseAndExportShape);
+    connect(panel_, &OptimizationPanel::exportHistoryRequested, this,
+            &OptimizationWorkspace::chooseAndExportHistory);
+    connect(panel_, &OptimizationPanel::exportPlotsRequested, this,
+            &OptimizationWorkspace::chooseAndExportPlots);
     scene_->setField(panel_->field());
     showCase();
     onStateChanged();
     updateEvaluationPanel();
 }
 
-// ---- The problem ------------------------------------------------------------------------------------
+// ---- The problem
+// ------------------------------------------------------------------------------------
 
 void OptimizationWorkspace::showCase() {
     panel_->setCase(document_->caseFile(), runner_->historyPath());
@@ -166,7 +186,8 @@ void OptimizationWorkspace::showCase() {
     updateSensitivities();
 }
 
-// ---- Running ---------------------------------------------------------------------------------------
+// ---- Running
+// ---------------------------------------------------------------------------------------
 
 void OptimizationWorkspace::start() {
     if (runner_->historyExists()) {
@@ -174,19 +195,20 @@ void OptimizationWorkspace::start() {
         return;
     }
     QString error;
-    if (!runner_->start(OptimizationRunner::Start::New, &error)) emit message(error, 10000);
+    if (!runner_->start(OptimizationRunner::Start::New, &error)) refuse(error);
 }
 
 void OptimizationWorkspace::startOver() {
     if (runner_->running()) return;
     if (runner_->historyExists()) {
         QMessageBox box(QMessageBox::Question, tr("Start Over"),
-                        tr("Replace the optimization history %1?").arg(runner_->historyJsonlPath()), QMessageBox::NoButton,
-                        dialogParent_);
+                        tr("Replace the optimization history %1?").arg(runner_->historyJsonlPath()),
+                        QMessageBox::NoButton, dialogParent_);
         box.setObjectName(QStringLiteral("startOverQuestion"));
-        box.setInformativeText(tr("A new run starts from the case's design and the %1 recorded evaluations are lost "
-                                  "(Resume would continue them instead).")
-                                   .arg(runner_->history().evaluationCount()));
+        box.setInformativeText(
+            tr("A new run starts from the case's design and the %1 recorded evaluations are lost "
+               "(Resume would continue them instead).")
+                .arg(runner_->history().evaluationCount()));
         QPushButton* replace = box.addButton(tr("Replace and Start"), QMessageBox::AcceptRole);
         replace->setObjectName(QStringLiteral("replaceHistory"));
         QPushButton* keep = box.addButton(tr("Keep the History"), QMessageBox::RejectRole);
@@ -195,7 +217,7 @@ void OptimizationWorkspace::startOver() {
         if (box.clickedButton() != replace) return;
     }
     QString error;
-    if (!runner_->start(OptimizationRunner::Start::Fresh, &error)) emit message(error, 10000);
+    if (!runner_->start(OptimizationRunner::Start::Fresh, &error)) refuse(error);
 }
 
 void OptimizationWorkspace::pause() {
@@ -208,11 +230,17 @@ void OptimizationWorkspace::stop() {
 
 void OptimizationWorkspace::resume() {
     QString error;
-    if (!runner_->start(OptimizationRunner::Start::Resume, &error)) emit message(error, 10000);
+    if (!runner_->start(OptimizationRunner::Start::Resume, &error)) refuse(error);
 }
 
-void OptimizationWorkspace::onStateChanged() {
-    const State s = runner_->state();
+void OptimizationWorkspace::refuse(const QString& why) {
+    // Beside the button the user pressed, and in the status bar (until the state changes).
+    onStateChanged();
+    panel_->setRunState(why, OptimizationPanel::Tone::Bad, actions(), runner_->running());
+    emit message(why, 10000);
+}
+
+OptimizationPanel::Actions OptimizationWorkspace::actions() const {
     const bool running = runner_->running();
     const bool busy = running || runner_->loading();
     const bool exists = runner_->historyExists();
@@ -220,17 +248,24 @@ void OptimizationWorkspace::onStateChanged() {
     OptimizationPanel::Actions can;
     can.start = geometry && !busy && !exists;
     can.startOver = geometry && !busy && exists;
-    can.pause = running && s == State::Running;
+    can.pause = running && runner_->state() == State::Running;
     can.stop = running;
     can.resume = geometry && !busy && exists;
+    return can;
+}
+
+void OptimizationWorkspace::onStateChanged() {
+    const State s = runner_->state();
+    const bool exists = runner_->historyExists();
     QString text = runner_->stateText();
     if (s == State::None) {
         text = exists ? tr("A history exists: Resume continues it, Start Over replaces it.")
-               : document_->caseFile().optimization.present ? tr("Not run yet.")
-                                                           : tr("Set up the problem below, then Start.");
+               : document_->caseFile().optimization.present
+                   ? tr("Not run yet.")
+                   : tr("Set up the problem below, then Start.");
         if (runner_->loading()) text = tr("Reading the history...");
     }
-    panel_->setRunState(text, toneOf(*runner_), can, running);
+    panel_->setRunState(text, toneOf(*runner_), actions(), runner_->running());
     updateEvaluationPanel();
 }
 
@@ -241,7 +276,8 @@ void OptimizationWorkspace::onHistoryReset() {
     panel_->setComparedEvaluation(0);
     showEvaluation(runner_->history().evaluationCount());
     updateSensitivities();
-    if (runner_->history().evaluationCount() > 0 && runner_->state() == State::Recorded) setViewShown(true);
+    if (runner_->history().evaluationCount() > 0 && runner_->state() == State::Recorded)
+        setViewShown(true);
 }
 
 void OptimizationWorkspace::onRecord(const study::OptimizationRecord& r) {
@@ -278,11 +314,14 @@ void OptimizationWorkspace::onFlowReport(const FlowRunProgress& p) {
     } else if (!p.message.empty()) {
         QString s = QString::fromStdString(p.message);
         s[0] = s[0].toUpper();
-        if (runner_->running()) panel_->setProgress(tr("Evaluation %1: %2...").arg(runner_->currentEvaluation()).arg(s));
+        if (runner_->running())
+            panel_->setProgress(
+                tr("Evaluation %1: %2...").arg(runner_->currentEvaluation()).arg(s));
     }
 }
 
-// ---- The evaluation shown -----------------------------------------------------------------------------
+// ---- The evaluation shown
+// -----------------------------------------------------------------------------
 
 void OptimizationWorkspace::showEvaluation(int index) {
     const OptimizationHistory& h = runner_->history();
@@ -291,7 +330,8 @@ void OptimizationWorkspace::showEvaluation(int index) {
     panel_->setCurrentEvaluation(index);
     const OptimizationHistory::Evaluation* e = h.evaluation(index);
     scene_->setShown(e ? e->snapshot : nullptr);
-    scene_->setCaption(e ? captionOf(*e, document_->caseFile().optimization.objective) : std::string());
+    scene_->setCaption(e ? captionOf(*e, document_->caseFile().optimization.objective)
+                         : std::string());
     applyCompare();
     plots_->setShown(shown_, compared_);
     updateEvaluationPanel();
@@ -308,7 +348,8 @@ void OptimizationWorkspace::compareWith(int index, CompareMode mode) {
 
 void OptimizationWorkspace::applyCompare() {
     const OptimizationHistory::Evaluation* c = runner_->history().evaluation(compared_);
-    scene_->setCompared(c && compared_ != shown_ ? c->snapshot : nullptr, c ? compareMode_ : CompareMode::Off);
+    scene_->setCompared(c && compared_ != shown_ ? c->snapshot : nullptr,
+                        c ? compareMode_ : CompareMode::Off);
 }
 
 bool OptimizationWorkspace::viewShown() const {
@@ -329,7 +370,8 @@ void OptimizationWorkspace::updateEvaluationPanel() {
     const OptimizationHistory& h = runner_->history();
     const OptimizationHistory::Evaluation* e = h.evaluation(shown_);
     if (!e) {
-        panel_->setEvaluationText(h.evaluationCount() == 0 ? tr("No evaluations yet.") : QString(), false);
+        panel_->setEvaluationText(h.evaluationCount() == 0 ? tr("No evaluations yet.") : QString(),
+                                  false);
         panel_->setEvaluationActions(false, false, false);
         return;
     }
@@ -337,29 +379,34 @@ void OptimizationWorkspace::updateEvaluationPanel() {
     const std::string& objective = document_->caseFile().optimization.objective;
     QString text;
     if (r.ok) {
-        text = tr("%1 = %2;  CL %3, CD %4, L/D %5\nvolume %6, max. Mach %7, alpha %8\u00b0, %9 flow iterations%10")
+        text = tr("%1 = %2;  CL %3, CD %4, L/D %5\nvolume %6, max. Mach %7, alpha %8\u00b0, %9 "
+                  "flow iterations%10")
                    .arg(QString::fromStdString(objective), num(r.J, 8), num(r.CL, 6), num(r.CD, 6),
-                        num(r.CD != 0 ? r.CL / r.CD : std::nan(""), 5), num(r.volume, 6), num(r.maxMach, 4), num(r.alphaDeg, 4))
+                        num(r.CD != 0 ? r.CL / r.CD : std::nan(""), 5), num(r.volume, 6),
+                        num(r.maxMach, 4), num(r.alphaDeg, 4))
                    .arg(r.flowIterations)
                    .arg(r.replayed ? tr(" (replayed)") : QString());
     } else {
-        text = tr("Failed: %1: %2").arg(QString::fromStdString(r.status), QString::fromStdString(r.message));
+        text = tr("Failed: %1: %2")
+                   .arg(QString::fromStdString(r.status), QString::fromStdString(r.message));
     }
     if (r.index == h.latestIterate()) text += tr("\nThe optimizer's latest iterate.");
     if (e->snapshot && !e->snapshot->flow)
         text += tr("\nIts flow solution is not kept (Solve Its Flow brings the fields back).");
     panel_->setEvaluationText(text, !r.ok);
     const bool hasSnapshot = e->snapshot != nullptr;
-    panel_->setEvaluationActions(hasSnapshot && document_->model() != nullptr,
-                                 hasSnapshot && !e->snapshot->flow && !runner_->running() && !runner_->solvingEvaluation(),
-                                 hasSnapshot && !e->snapshot->shape.patches.empty());
+    panel_->setEvaluationActions(
+        hasSnapshot && document_->model() != nullptr,
+        hasSnapshot && !e->snapshot->flow && !runner_->running() && !runner_->solvingEvaluation(),
+        hasSnapshot && !e->snapshot->shape.patches.empty());
 }
 
 void OptimizationWorkspace::updateSensitivities() {
     const auto& g = runner_->history().lastGradient();
     const ffd::FfdModel* model = document_->model();
     if (!g || !g->ok || !model) {
-        panel_->setSensitivities({}, {}, tr("dJ/dv of every design variable appears here after the first gradient."));
+        panel_->setSensitivities(
+            {}, {}, tr("dJ/dv of every design variable appears here after the first gradient."));
         return;
     }
     // dJ/dv from the optimizer's gradient: it minimizes s J with s = -scale when maximizing, in
@@ -371,7 +418,8 @@ void OptimizationWorkspace::updateSensitivities() {
     std::vector<std::string> names;
     std::vector<double> d;
     for (std::size_t i = 0; i < vars.size() && i < g->dObjective.size(); ++i) {
-        const double scale = oc.rangeScaling && vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
+        const double scale =
+            oc.rangeScaling && vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
         names.push_back(vars[i].name);
         d.push_back(g->dObjective[i] / (sign * scale));
     }
@@ -380,24 +428,29 @@ void OptimizationWorkspace::updateSensitivities() {
         names.push_back("alpha");
         d.push_back(g->dObjective[vars.size()] / (sign * scale));
     }
-    panel_->setSensitivities(names, d,
-                             tr("d%1/dv at gradient %2 (evaluation %3's design), per unit of each variable:")
-                                 .arg(QString::fromStdString(oc.objective))
-                                 .arg(g->index)
-                                 .arg(runner_->history().latestIterate()));
+    panel_->setSensitivities(
+        names, d,
+        tr("d%1/dv at gradient %2 (evaluation %3's design), per unit of each variable:")
+            .arg(QString::fromStdString(oc.objective))
+            .arg(g->index)
+            .arg(runner_->history().latestIterate()));
 }
 
-// ---- Exports ------------------------------------------------------------------------------------------
+// ---- Exports
+// ------------------------------------------------------------------------------------------
 
-QString OptimizationWorkspace::askPath(const QString& title, const QString& name, const QString& filter) const {
+QString OptimizationWorkspace::askPath(const QString& title, const QString& name,
+                                       const QString& filter) const {
     const QString history = runner_->historyPath();
     const QString dir = history.isEmpty() ? QDir::homePath() : QFileInfo(history).dir().path();
     return QFileDialog::getSaveFileName(dialogParent_, title, QDir(dir).filePath(name), filter);
 }
 
 void OptimizationWorkspace::chooseAndExportShape() {
-    const QString path = askPath(tr("Export the Evaluation's Shape"),
-                                 QStringLiteral("evaluation_%1.igs").arg(shown_, 3, 10, QLatin1Char('0')), tr("IGES (*.igs *.iges)"));
+    const QString path =
+        askPath(tr("Export the Evaluation's Shape"),
+                QStringLiteral("evaluation_%1.igs").arg(shown_, 3, 10, QLatin1Char('0')),
+                tr("IGES (*.igs *.iges)"));
     if (path.isEmpty()) return;
     QString error;
     if (exportShape(path, &error))
@@ -407,17 +460,20 @@ void OptimizationWorkspace::chooseAndExportShape() {
 }
 
 void OptimizationWorkspace::chooseAndExportHistory() {
-    const QString path = askPath(tr("Export the Optimization History"), QStringLiteral("history.csv"), tr("CSV (*.csv)"));
+    const QString path = askPath(tr("Export the Optimization History"),
+                                 QStringLiteral("history.csv"), tr("CSV (*.csv)"));
     if (path.isEmpty()) return;
     QString error;
     if (exportHistory(path, &error))
-        emit message(tr("Exported %1 (and the iterations and JSON lines beside it)").arg(path), 6000);
+        emit message(tr("Exported %1 (and the iterations and JSON lines beside it)").arg(path),
+                     6000);
     else
         QMessageBox::critical(dialogParent_, tr("Cannot export"), error);
 }
 
 void OptimizationWorkspace::chooseAndExportPlots() {
-    const QString folder = QFileDialog::getExistingDirectory(dialogParent_, tr("Export the Plots into a Folder"));
+    const QString folder =
+        QFileDialog::getExistingDirectory(dialogParent_, tr("Export the Plots into a Folder"));
     if (folder.isEmpty()) return;
     QString error;
     if (plots_->exportAll(folder, &error))
@@ -432,7 +488,9 @@ bool OptimizationWorkspace::exportShape(const QString& path, QString* error) con
         if (error) *error = tr("No evaluation's shape is shown.");
         return false;
     }
-    return ProjectFiles::guarded([&] { study::saveGeometry(e->snapshot->shape, QFile::encodeName(path).toStdString()); }, error);
+    return ProjectFiles::guarded(
+        [&] { study::saveGeometry(e->snapshot->shape, QFile::encodeName(path).toStdString()); },
+        error);
 }
 
 bool OptimizationWorkspace::exportHistory(const QString& csvPath, QString* error) const {
@@ -441,15 +499,19 @@ bool OptimizationWorkspace::exportHistory(const QString& csvPath, QString* error
         if (error) *error = tr("There is no history file yet.");
         return false;
     }
-    const QFileInfo from(csv), to(csvPath.endsWith(QLatin1String(".csv")) ? csvPath : csvPath + QStringLiteral(".csv"));
-    const QString iterations = from.dir().filePath(from.completeBaseName() + QStringLiteral("_iterations.csv"));
+    const QFileInfo from(csv),
+        to(csvPath.endsWith(QLatin1String(".csv")) ? csvPath : csvPath + QStringLiteral(".csv"));
+    const QString iterations =
+        from.dir().filePath(from.completeBaseName() + QStringLiteral("_iterations.csv"));
     const std::vector<std::pair<QString, QString>> copies = {
         {csv, to.filePath()},
         {iterations, to.dir().filePath(to.completeBaseName() + QStringLiteral("_iterations.csv"))},
-        {runner_->historyJsonlPath(), to.dir().filePath(to.completeBaseName() + QStringLiteral(".jsonl"))}};
+        {runner_->historyJsonlPath(),
+         to.dir().filePath(to.completeBaseName() + QStringLiteral(".jsonl"))}};
     for (const auto& [source, target] : copies) {
         if (!QFileInfo::exists(source)) continue;
-        if (QFileInfo(source).canonicalFilePath() == QFileInfo(target).canonicalFilePath()) continue;
+        if (QFileInfo(source).canonicalFilePath() == QFileInfo(target).canonicalFilePath())
+            continue;
         QFile::remove(target);
         if (!QFile::copy(source, target)) {
             if (error) *error = tr("Cannot copy '%1' to '%2'.").arg(source, target);
@@ -468,13 +530,18 @@ bool OptimizationWorkspace::useShownDesign(QString* error) {
     const bool alpha = document_->caseFile().optimization.alphaVariable;
     const bool ok = ProjectFiles::guarded(
         [&] {
-            document_->setDesign(e->snapshot->values, alpha ? std::optional<double>(e->snapshot->alphaDeg) : std::nullopt,
-                                 tr("Use the design of evaluation %1").arg(shown_));
+            document_->setDesign(
+                e->snapshot->values,
+                alpha ? std::optional<double>(e->snapshot->alphaDeg) : std::nullopt,
+                tr("Use the design of evaluation %1").arg(shown_));
         },
         error);
     if (ok) {
         setViewShown(false);  // the project's design, now the evaluation's, takes the view back
-        emit message(tr("The project now has the design of evaluation %1 (undo brings the previous one back).").arg(shown_), 8000);
+        emit message(tr("The project now has the design of evaluation %1 (undo brings the previous "
+                        "one back).")
+                         .arg(shown_),
+                     8000);
     }
     return ok;
 }

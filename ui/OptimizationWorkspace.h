@@ -14,6 +14,7 @@
 #include <QString>
 #include <memory>
 
+#include "OptimizationPanel.h"  // Actions (the header has no VTK)
 #include "OptimizationRunner.h"
 #include "OptimizationScene.h"  // CompareMode (the header has no VTK)
 
@@ -23,7 +24,6 @@ namespace aero::ui {
 
 class Document;
 class JobRunner;
-class OptimizationPanel;
 class OptimizationPlots;
 class VtkViewport;
 
@@ -31,8 +31,9 @@ class OptimizationWorkspace : public QObject {
     Q_OBJECT
 
   public:
-    OptimizationWorkspace(Document* document, JobRunner* jobs, VtkViewport* viewport, OptimizationScene* scene,
-                          QWidget* parentWidget, QObject* parent = nullptr);
+    OptimizationWorkspace(Document* document, JobRunner* jobs, VtkViewport* viewport,
+                          OptimizationScene* scene, QWidget* parentWidget,
+                          QObject* parent = nullptr);
 
     OptimizationRunner& runner() const { return *runner_; }
     OptimizationPanel* panel() const { return panel_; }
@@ -77,6 +78,9 @@ class OptimizationWorkspace : public QObject {
   private:
     void showCase();
     void onStateChanged();
+    /// A start that could not be made: why, in the panel's state line and the status bar.
+    void refuse(const QString& why);
+    OptimizationPanel::Actions actions() const;
     void onRecord(const study::OptimizationRecord& r);
     void onHistoryReset();
     void onFlowReport(const FlowRunProgress& p);

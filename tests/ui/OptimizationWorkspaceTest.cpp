@@ -12,7 +12,9 @@
 //     same records, bit for bit, as the uninterrupted run;
 //   - one run at a time; quitting mid-run asks, then stops and leaves a history that a new window
 //     reads back and resumes to the same result;
-//   - plots export PNG/SVG/CSV; history and shape export; screenshots for people to look at.
+//   - plots export PNG/SVG/CSV; history and shape export; screenshots for people to look at;
+//   - bad input says what is wrong: a problem the case cannot have, a history written for another
+//     problem, a case without an optimization.
 #include <QAction>
 #include <QApplication>
 #include <QCheckBox>
@@ -25,6 +27,7 @@
 #include <QPushButton>
 #include <QSlider>
 #include <QSpinBox>
+#include <QStatusBar>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QTreeWidget>
@@ -64,20 +67,28 @@ using namespace aero::uitest;
 
 namespace {
 
-constexpr int kRunTimeoutMs = 600000;    // a minute on an idle machine; generous on a busy one
-constexpr double kFrameBudgetMs = 100;   // the limit for one frame of the GUI thread
+constexpr int kRunTimeoutMs = 600000;   // a minute on an idle machine; generous on a busy one
+constexpr double kFrameBudgetMs = 100;  // the limit for one frame of the GUI thread
 constexpr int kEvaluations = 3;
 
 const char* stateName(State s) {
     switch (s) {
-        case State::None: return "None";
-        case State::Running: return "Running";
-        case State::Pausing: return "Pausing";
-        case State::Paused: return "Paused";
-        case State::Stopped: return "Stopped";
-        case State::Finished: return "Finished";
-        case State::Failed: return "Failed";
-        case State::Recorded: return "Recorded";
+        case State::None:
+            return "None";
+        case State::Running:
+            return "Running";
+        case State::Pausing:
+            return "Pausing";
+        case State::Paused:
+            return "Paused";
+        case State::Stopped:
+            return "Stopped";
+        case State::Finished:
+            return "Finished";
+        case State::Failed:
+            return "Failed";
+        case State::Recorded:
+            return "Recorded";
     }
     return "?";
 }
@@ -85,29 +96,32 @@ const char* stateName(State s) {
 // A record as text with every number exact (hex floats), without its wall-clock time and replay
 // flag: two runs on the same path give the same text.
 std::string exact(const aero::study::OptimizationRecord& r) {
-    std::string s = std::string(aero::study::recordKindName(r.kind)) + " " + std::to_string(r.index) + " " + r.status + " " +
-                    r.message + (r.ok ? " ok" : " failed");
+    std::string s = std::string(aero::study::recordKindName(r.kind)) + " " +
+                    std::to_string(r.index) + " " + r.status + " " + r.message +
+                    (r.ok ? " ok" : " failed");
     auto add = [&s](double v) {
         char buf[40];
         std::snprintf(buf, sizeof buf, " %a", v);
         s += buf;
     };
     for (double v : r.x) add(v);
-    for (double v : {r.objective, r.J, r.CL, r.CD, r.CM, r.volume, r.alphaDeg, r.cornerRatio, r.maxMach, r.maxEntropy,
-                     r.optimality, r.feasibility})
+    for (double v : {r.objective, r.J, r.CL, r.CD, r.CM, r.volume, r.alphaDeg, r.cornerRatio,
+                     r.maxMach, r.maxEntropy, r.optimality, r.feasibility})
         add(v);
     for (double v : r.constraints) add(v);
     for (double v : r.dObjective) add(v);
     for (const auto& row : r.dConstraints)
         for (double v : row) add(v);
-    s += " " + std::to_string(r.flowIterations) + " " + std::to_string(r.warmFrom) + " " + std::to_string(r.evaluations) + " " +
-         std::to_string(r.gradients) + " " + std::to_string(r.adjointIterations);
+    s += " " + std::to_string(r.flowIterations) + " " + std::to_string(r.warmFrom) + " " +
+         std::to_string(r.evaluations) + " " + std::to_string(r.gradients) + " " +
+         std::to_string(r.adjointIterations);
     return s;
 }
 
 std::vector<std::string> exactRecords(const QString& jsonl) {
     std::vector<std::string> out;
-    for (const auto& r : aero::study::readHistory(QFile::encodeName(jsonl).toStdString())) out.push_back(exact(r));
+    for (const auto& r : aero::study::readHistory(QFile::encodeName(jsonl).toStdString()))
+        out.push_back(exact(r));
     return out;
 }
 
@@ -116,7 +130,8 @@ bool samePoints(const aero::geometry::PatchSet& a, const aero::geometry::PatchSe
     for (std::size_t p = 0; p < a.patches.size(); ++p) {
         const auto& x = a.patches[p].points;
         const auto& y = b.patches[p].points;
-        if (x.size() != y.size() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) != 0) return false;
+        if (x.size() != y.size() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) != 0)
+            return false;
     }
     return true;
 }
@@ -139,6 +154,7 @@ class OptimizationWorkspaceTest : public QObject {
     void pauseStopsAtAnEvaluationAndResumeReachesTheSameRecords();
     void oneRunAtATime();
     void quittingMidRunAsksAndLeavesAResumableHistory();
+    void badInputIsExplained();
 
   private:
     OptimizationRunner& runner() { return window_->optimization().runner(); }
@@ -150,11 +166,13 @@ class OptimizationWorkspaceTest : public QObject {
     }
     // The evaluations' snapshots as they arrived (shared: immutable once made).
     void recordSnapshots() {
-        connect(&runner(), &OptimizationRunner::recordAdded, this, [this](const aero::study::OptimizationRecord& r) {
-            if (r.kind != Kind::Values) return;
-            if (const auto* e = runner().history().evaluation(r.index)) arrived_.push_back(e->snapshot);
-            ++valuesRecords_;
-        });
+        connect(&runner(), &OptimizationRunner::recordAdded, this,
+                [this](const aero::study::OptimizationRecord& r) {
+                    if (r.kind != Kind::Values) return;
+                    if (const auto* e = runner().history().evaluation(r.index))
+                        arrived_.push_back(e->snapshot);
+                    ++valuesRecords_;
+                });
     }
 
     bool canRender_;
@@ -170,15 +188,17 @@ class OptimizationWorkspaceTest : public QObject {
 
 void OptimizationWorkspaceTest::initTestCase() {
     if (!canRender_)
-        QSKIP("test_ui needs an X display: DISPLAY is not set (or QT_QPA_PLATFORM is offscreen). "
-              "Run it under xvfb-run -a -s \"-screen 0 1280x800x24\".");
+        QSKIP(
+            "test_ui needs an X display: DISPLAY is not set (or QT_QPA_PLATFORM is offscreen). "
+            "Run it under xvfb-run -a -s \"-screen 0 1280x800x24\".");
     QVERIFY(dir_.isValid());
     QDir().mkpath(kScreenshotDir);
-    aero::io::CaseFile c = aero::io::readCase(std::string(AEROFORM_SAMPLES_DIR) + "/sphere_to_bwb.json");
+    aero::io::CaseFile c =
+        aero::io::readCase(std::string(AEROFORM_SAMPLES_DIR) + "/sphere_to_bwb.json");
     c.mesh.extrusion.refine = 0.3;
     c.mesh.elasticity.increments = 2;
     c.optimization.maxEvaluations = kEvaluations;
-    c.optimization.history.clear();     // the default: <project>.history.csv beside the project
+    c.optimization.history.clear();  // the default: <project>.history.csv beside the project
     c.optimization.iterations.clear();
     c.outputGeometry.clear();
     project_ = dir_.filePath(QStringLiteral("sphere_to_wing_small.json"));
@@ -209,10 +229,12 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
     QVERIFY(!a.optimizePause->isEnabled());
     QVERIFY(!a.optimizeResume->isEnabled());
     QVERIFY(!runner().historyExists());
-    QCOMPARE(runner().historyPath(), dir_.filePath(QStringLiteral("sphere_to_wing_small.history.csv")));
+    QCOMPARE(runner().historyPath(),
+             dir_.filePath(QStringLiteral("sphere_to_wing_small.history.csv")));
     // The panel shows the case's problem (from the option table).
     QCOMPARE(std::get<std::string>(panel().editor("objective")->value()), std::string("CL/CD"));
-    QCOMPARE(std::get<long>(panel().editor("max_evaluations")->value()), static_cast<long>(kEvaluations));
+    QCOMPARE(std::get<long>(panel().editor("max_evaluations")->value()),
+             static_cast<long>(kEvaluations));
     QCOMPARE(panel().volumeBox()->currentIndex(), 1);  // at least the start's
 
     const double loadBefore = loadPerCore();
@@ -239,21 +261,29 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
     QTest::qWait(300);
     user.stop();
     probe.stop();
-    qInfo("optimization: %s in %.1f s: %s", stateName(s), clock.elapsed() / 1000.0, qPrintable(runner().stateText()));
-    qInfo("GUI thread while optimizing: %ld ticks of a 5 ms timer, mean gap %.1f ms; longest gap %.1f ms, without the 3D "
-          "view's rendering %.1f ms; the GUI thread's own CPU in one gap at most %.1f ms; %d frames, the longest %.1f ms; "
-          "load average %s on %d cores",
-          probe.ticks(), probe.meanMs(), probe.worstMs(), probe.worstWithoutRenderingMs(), probe.worstOwnCpuMs(), probe.frames(),
-          probe.longestFrameMs(), qPrintable(loadAverage()), QThread::idealThreadCount());
-    for (const auto& g : probe.slowGaps())
-        qInfo("  gap %.1f ms: rendering %.1f ms, the GUI thread's own CPU %.1f ms", g[0], g[1], g[2]);
+    qInfo("optimization: %s in %.1f s: %s", stateName(s), clock.elapsed() / 1000.0,
+          qPrintable(runner().stateText()));
+    qInfo(
+        "GUI thread while optimizing: %ld ticks of a 5 ms timer, mean gap %.1f ms; longest gap "
+        "%.1f ms, without the 3D "
+        "view's rendering %.1f ms; the GUI thread's own CPU in one gap at most %.1f ms; %d frames, "
+        "the longest %.1f ms; "
+        "load average %s on %d cores",
+        probe.ticks(), probe.meanMs(), probe.worstMs(), probe.worstWithoutRenderingMs(),
+        probe.worstOwnCpuMs(), probe.frames(), probe.longestFrameMs(), qPrintable(loadAverage()),
+        QThread::idealThreadCount());
+    qInfo("%zu gaps over 60 ms; the longest:", probe.slowGaps().size());
+    for (const auto& g : probe.longestGaps(5))
+        qInfo("  gap %.1f ms: rendering %.1f ms, the GUI thread's own CPU %.1f ms", g[0], g[1],
+              g[2]);
     QVERIFY2(s == State::Finished, qPrintable(runner().stateText()));
     QVERIFY(runner().outcome().has_value());
     QCOMPARE(*runner().outcome(), aero::optimize::Status::EvaluationLimit);
 
     // Every record of the file reached the window, and the plots got one point per evaluation.
     const auto& h = runner().history();
-    const auto records = aero::study::readHistory(QFile::encodeName(runner().historyJsonlPath()).toStdString());
+    const auto records =
+        aero::study::readHistory(QFile::encodeName(runner().historyJsonlPath()).toStdString());
     int values = 0, iterations = 0, ok = 0;
     for (const auto& r : records) {
         values += r.kind == Kind::Values ? 1 : 0;
@@ -274,12 +304,14 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
         if (records[i].kind == Kind::Values) {
             const auto* e = h.evaluation(records[i].index);
             QVERIFY(e);
-            QCOMPARE(exact(e->record), exact(records[i]));  // what the window shows is what the file holds
+            QCOMPARE(exact(e->record),
+                     exact(records[i]));  // what the window shows is what the file holds
         }
     // The objective rose from the sphere's (the paper: CL/CD from 0.0016).
-    qInfo("CL/CD: %.6g -> %.6g over %d evaluations (%d failed), %d iterations", h.evaluation(1)->record.J,
-          h.evaluation(h.latestIterate() > 0 ? h.latestIterate() : 1)->record.J, h.evaluationCount(), h.failedEvaluations(),
-          iterations);
+    qInfo("CL/CD: %.6g -> %.6g over %d evaluations (%d failed), %d iterations",
+          h.evaluation(1)->record.J,
+          h.evaluation(h.latestIterate() > 0 ? h.latestIterate() : 1)->record.J,
+          h.evaluationCount(), h.failedEvaluations(), iterations);
     QVERIFY(h.evaluation(1)->record.ok);
 
     // The uninterrupted run's records and result, for the pause/resume and quit tests.
@@ -289,17 +321,24 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
     referenceEvaluations_ = h.evaluationCount();
 
     // The GUI thread's own work never took a frame's budget (whatever else the machine runs).
-    QVERIFY(probe.ticks() >= 20);
-    QVERIFY2(probe.worstOwnCpuMs() < kFrameBudgetMs,
-             qPrintable(QStringLiteral("the GUI thread worked %1 ms in one go").arg(probe.worstOwnCpuMs())));
+    // Enough gaps were measured to mean something (not a count per second: a fast machine runs
+    // these three evaluations in a few seconds, and a gap may hold a software-rendered frame).
+    QVERIFY2(probe.ticks() >= 20, qPrintable(QStringLiteral("%1 ticks").arg(probe.ticks())));
+    QVERIFY2(
+        probe.worstOwnCpuMs() < kFrameBudgetMs,
+        qPrintable(
+            QStringLiteral("the GUI thread worked %1 ms in one go").arg(probe.worstOwnCpuMs())));
     if (loadBefore <= 1.0)
         QVERIFY2(probe.worstWithoutRenderingMs() < kFrameBudgetMs,
-                 qPrintable(QStringLiteral("the GUI thread stalled for %1 ms").arg(probe.worstWithoutRenderingMs())));
+                 qPrintable(QStringLiteral("the GUI thread stalled for %1 ms")
+                                .arg(probe.worstWithoutRenderingMs())));
     else
-        qInfo("the wall-clock gaps are not checked: %.1f runnable threads per core before the run", loadBefore);
+        qInfo("the wall-clock gaps are not checked: %.1f runnable threads per core before the run",
+              loadBefore);
 
     // The state as the window says it.
-    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Evaluation limit reached")), qPrintable(panel().statusText()));
+    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Evaluation limit reached")),
+             qPrintable(panel().statusText()));
     QVERIFY(a.optimizeStart->isEnabled());
     QVERIFY(a.optimizeResume->isEnabled());  // a history exists
     QCOMPARE(panel().startButton()->text(), QStringLiteral("Start Over"));
@@ -318,8 +357,10 @@ void OptimizationWorkspaceTest::viewFollowsAndTheSliderRestoresAnEarlierShapeExa
     QCOMPARE(scene.field(), aero::ui::FlowField::Entropy);
     QCOMPARE(static_cast<int>(arrived_.size()), h.evaluationCount());
     if (h.evaluation(h.evaluationCount())->record.ok) QVERIFY(scene.flowDrawn());
-    QVERIFY(QString::fromStdString(scene.caption()).startsWith(QStringLiteral("Evaluation %1").arg(h.evaluationCount())));
-    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir + QStringLiteral("/optimization_latest.png")));
+    QVERIFY(QString::fromStdString(scene.caption())
+                .startsWith(QStringLiteral("Evaluation %1").arg(h.evaluationCount())));
+    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir +
+                                                  QStringLiteral("/optimization_latest.png")));
 
     // The slider back to evaluation 1 (the sphere): its shape exactly as it was evaluated.
     panel().historySlider()->setValue(1);
@@ -330,7 +371,8 @@ void OptimizationWorkspaceTest::viewFollowsAndTheSliderRestoresAnEarlierShapeExa
     QVERIFY(samePoints(scene.shown()->shape, arrived_.front()->shape));
     QCOMPARE(scene.shown()->values, arrived_.front()->values);
     QVERIFY(scene.flowDrawn());  // its solution is kept
-    QVERIFY2(panel().evaluationText().contains(QStringLiteral("CL/CD")), qPrintable(panel().evaluationText()));
+    QVERIFY2(panel().evaluationText().contains(QStringLiteral("CL/CD")),
+             qPrintable(panel().evaluationText()));
     // ... and equal to the shape stage of that design computed independently (the one pipeline).
     aero::io::CaseFile c = window_->document().caseFile();
     aero::study::CaseEvaluator ev(c, window_->document().baseline());
@@ -341,7 +383,8 @@ void OptimizationWorkspaceTest::viewFollowsAndTheSliderRestoresAnEarlierShapeExa
     QVERIFY(samePoints(e.shape, scene.shown()->shape));
     // The last evaluation differs from the first (the optimizer moved).
     QVERIFY(!samePoints(arrived_.back()->shape, arrived_.front()->shape));
-    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir + QStringLiteral("/optimization_evaluation1.png")));
+    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir +
+                                                  QStringLiteral("/optimization_evaluation1.png")));
 
     // Use This Design: the project takes evaluation 2's design; its shape is that evaluation's.
     panel().historySlider()->setValue(2);
@@ -355,7 +398,8 @@ void OptimizationWorkspaceTest::viewFollowsAndTheSliderRestoresAnEarlierShapeExa
     QVERIFY(!w.viewShown());  // the project's design takes the view back
     QVERIFY(window_->scene().surfacesVisible());
     stack->undo();
-    QVERIFY(samePoints(window_->document().shape(), arrived_[0]->shape));  // the case's design: the sphere
+    QVERIFY(samePoints(window_->document().shape(),
+                       arrived_[0]->shape));  // the case's design: the sphere
     // Back to the latest, following the run again.
     panel().setFollow(true);
     w.showEvaluation(h.evaluationCount());
@@ -373,12 +417,14 @@ void OptimizationWorkspaceTest::compareTwoEvaluations() {
     QCOMPARE(scene.compared()->index, 1);
     QVERIFY(scene.compareOffset()[1] > 0.5);  // beside it, along +Y
     window_->resetCamera();
-    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir + QStringLiteral("/optimization_side_by_side.png")));
+    QVERIFY(window_->viewport()->grabImage().save(
+        kScreenshotDir + QStringLiteral("/optimization_side_by_side.png")));
     panel().setCompareMode(aero::ui::CompareMode::Overlay);
     QCOMPARE(scene.compareMode(), aero::ui::CompareMode::Overlay);
     QCOMPARE(scene.compareOffset()[1], 0.0);
     window_->resetCamera();
-    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir + QStringLiteral("/optimization_overlay.png")));
+    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir +
+                                                  QStringLiteral("/optimization_overlay.png")));
     panel().setComparedEvaluation(0);
     QVERIFY(!scene.compared());
     window_->resetCamera();
@@ -390,7 +436,8 @@ void OptimizationWorkspaceTest::plotsAndHistoryExport() {
     QVERIFY2(plots().exportAll(out.path(), &error), qPrintable(error));
     for (aero::ui::PlotWidget* p : plots().plots()) {
         const QString base = QDir(out.path()).filePath(aero::ui::plotFileName(p->title()));
-        for (const char* suffix : {".png", ".svg", ".csv"}) QVERIFY2(QFileInfo::exists(base + QLatin1String(suffix)), qPrintable(base));
+        for (const char* suffix : {".png", ".svg", ".csv"})
+            QVERIFY2(QFileInfo::exists(base + QLatin1String(suffix)), qPrintable(base));
     }
     // The evaluations' table: one row per evaluation.
     const QString csv = plots().evaluationsCsv();
@@ -403,7 +450,8 @@ void OptimizationWorkspaceTest::plotsAndHistoryExport() {
     // Hover names the point.
     const QPointF first = plots().objectivePlot()->allSeries().front().points.front();
     plots().objectivePlot()->hoverAt(plots().objectivePlot()->toWidget(first));
-    QVERIFY2(plots().objectivePlot()->hoverText().contains(QStringLiteral("Evaluation")), qPrintable(plots().objectivePlot()->hoverText()));
+    QVERIFY2(plots().objectivePlot()->hoverText().contains(QStringLiteral("Evaluation")),
+             qPrintable(plots().objectivePlot()->hoverText()));
     plots().objectivePlot()->hoverAt({-1, -1});
     // The history and the shown shape.
     const QString history = out.filePath(QStringLiteral("exported.csv"));
@@ -420,7 +468,8 @@ void OptimizationWorkspaceTest::plotsAndHistoryExport() {
     dock->raise();
     QTest::qWait(100);
     QVERIFY(plots().grab().save(kScreenshotDir + QStringLiteral("/optimization_plots.png")));
-    QVERIFY(plots().objectivePlot()->exportSvg(kScreenshotDir + QStringLiteral("/optimization_objective.svg")));
+    QVERIFY(plots().objectivePlot()->exportSvg(kScreenshotDir +
+                                               QStringLiteral("/optimization_objective.svg")));
     if (auto* d = window_->findChild<QDockWidget*>(QStringLiteral("optimizationDock"))) {
         d->show();
         d->raise();
@@ -443,15 +492,19 @@ void OptimizationWorkspaceTest::pauseStopsAtAnEvaluationAndResumeReachesTheSameR
     QCOMPARE(runner().history().evaluationCount(), 0);
     QCOMPARE(plots().objectivePoints(), 0);
     // Pause while the first evaluation's flow iterates: it ends after that evaluation.
-    QVERIFY(QTest::qWaitFor([this] { return plots().residualPlot()->points() >= 1; }, kRunTimeoutMs));
+    QVERIFY(
+        QTest::qWaitFor([this] { return plots().residualPlot()->points() >= 1; }, kRunTimeoutMs));
     window_->actions().optimizePause->trigger();
     QCOMPARE(runner().state(), State::Pausing);
     QVERIFY(!window_->actions().optimizePause->isEnabled());
     const State s = waitForEnd();
-    QVERIFY2(s == State::Paused, qPrintable(QStringLiteral("%1: %2").arg(QLatin1String(stateName(s)), runner().stateText())));
-    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Paused after 1 evaluation")), qPrintable(panel().statusText()));
+    QVERIFY2(s == State::Paused, qPrintable(QStringLiteral("%1: %2").arg(
+                                     QLatin1String(stateName(s)), runner().stateText())));
+    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Paused after 1 evaluation")),
+             qPrintable(panel().statusText()));
     // At an evaluation boundary: the file ends on evaluation 1's whole record, nothing after it.
-    const auto paused = aero::study::readHistory(QFile::encodeName(runner().historyJsonlPath()).toStdString());
+    const auto paused =
+        aero::study::readHistory(QFile::encodeName(runner().historyJsonlPath()).toStdString());
     QVERIFY(!paused.empty());
     QCOMPARE(paused.back().kind, Kind::Values);
     QCOMPARE(paused.back().index, 1);
@@ -472,7 +525,8 @@ void OptimizationWorkspaceTest::pauseStopsAtAnEvaluationAndResumeReachesTheSameR
     // The plots hold one point per evaluation (the replayed one not twice).
     QCOMPARE(runner().history().evaluationCount(), referenceEvaluations_);
     QCOMPARE(plots().volumePoints(), referenceEvaluations_);
-    QCOMPARE(valuesRecords_, referenceEvaluations_ + 1);  // evaluation 1 came twice: run, then replayed
+    QCOMPARE(valuesRecords_,
+             referenceEvaluations_ + 1);  // evaluation 1 came twice: run, then replayed
     // Shapes: the replayed evaluation's (its shape stage again) is the one it had.
     QVERIFY(samePoints(runner().history().evaluation(1)->snapshot->shape, arrived_.front()->shape));
     QVERIFY(!runner().history().evaluation(1)->snapshot->flow || arrived_.front()->flow);
@@ -487,14 +541,16 @@ void OptimizationWorkspaceTest::oneRunAtATime() {
     QVERIFY2(error.contains(QStringLiteral("one at a time")), qPrintable(error));
     QCOMPARE(window_->jobs().jobs().size(), 1);
     // Stop: within a flow iteration; the history keeps what was finished.
-    QVERIFY(QTest::qWaitFor([this] { return plots().residualPlot()->points() >= 2; }, kRunTimeoutMs));
+    QVERIFY(
+        QTest::qWaitFor([this] { return plots().residualPlot()->points() >= 2; }, kRunTimeoutMs));
     QElapsedTimer clock;
     clock.start();
     window_->actions().optimizeStop->trigger();
     QCOMPARE(waitForEnd(), State::Stopped);
     qInfo("stopped %lld ms after Stop", clock.elapsed());
     QVERIFY(clock.elapsed() < 20000);
-    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Stopped with")), qPrintable(panel().statusText()));
+    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Stopped with")),
+             qPrintable(panel().statusText()));
 }
 
 void OptimizationWorkspaceTest::quittingMidRunAsksAndLeavesAResumableHistory() {
@@ -505,12 +561,14 @@ void OptimizationWorkspaceTest::quittingMidRunAsksAndLeavesAResumableHistory() {
     // Into the second evaluation's flow (after the first gradient).
     int iterationsAfterGradient = 0;
     bool gradient = false;
-    auto c1 = connect(&runner(), &OptimizationRunner::recordAdded, this, [&](const aero::study::OptimizationRecord& r) {
-        if (r.kind == Kind::Gradient) gradient = true;
-    });
-    auto c2 = connect(&runner(), &OptimizationRunner::flowReported, this, [&](const aero::ui::FlowRunProgress& p) {
-        if (gradient && p.hasIteration) ++iterationsAfterGradient;
-    });
+    auto c1 = connect(&runner(), &OptimizationRunner::recordAdded, this,
+                      [&](const aero::study::OptimizationRecord& r) {
+                          if (r.kind == Kind::Gradient) gradient = true;
+                      });
+    auto c2 = connect(&runner(), &OptimizationRunner::flowReported, this,
+                      [&](const aero::ui::FlowRunProgress& p) {
+                          if (gradient && p.hasIteration) ++iterationsAfterGradient;
+                      });
     QVERIFY(QTest::qWaitFor([&] { return iterationsAfterGradient >= 2; }, kRunTimeoutMs));
     disconnect(c1);
     disconnect(c2);
@@ -552,7 +610,8 @@ void OptimizationWorkspaceTest::quittingMidRunAsksAndLeavesAResumableHistory() {
     QVERIFY(window_->optimizationScene().drawn());
     QVERIFY(!window_->optimizationScene().flowDrawn());  // read back: shapes, not flows
     QVERIFY(panel().solveFlowButton()->isEnabled());
-    QVERIFY2(panel().statusText().contains(QStringLiteral("Resume continues it")), qPrintable(panel().statusText()));
+    QVERIFY2(panel().statusText().contains(QStringLiteral("Resume continues it")),
+             qPrintable(panel().statusText()));
     QVERIFY(window_->actions().optimizeResume->isEnabled());
     window_->actions().optimizeResume->trigger();
     QCOMPARE(runner().state(), State::Running);
@@ -561,6 +620,62 @@ void OptimizationWorkspaceTest::quittingMidRunAsksAndLeavesAResumableHistory() {
     QCOMPARE(runner().summary()->result.x, referenceX_);
     QCOMPARE(exactRecords(jsonl), reference_);
     QCOMPARE(plots().volumePoints(), referenceEvaluations_);
+}
+
+void OptimizationWorkspaceTest::badInputIsExplained() {
+    aero::ui::Document& doc = window_->document();
+    QUndoStack* stack = doc.undoStack();
+    const int undoBefore = stack->count();
+    // A problem the case cannot have, chosen in the panel: the pressure mismatch needs a target.
+    // The window says why, and the panel shows the case's objective again.
+    auto* objective = qobject_cast<QComboBox*>(panel().editor("objective")->widget());
+    QVERIFY(objective);
+    const int pressure = objective->findText(QStringLiteral("pressure"), Qt::MatchContains);
+    QVERIFY(pressure >= 0);
+    bool answered = false;
+    QString said;
+    answerNextMessageBox(QString(), &answered, &said);
+    objective->setCurrentIndex(pressure - 1);
+    QTest::keyClick(objective, Qt::Key_Down);  // the user's choice (activated), not a programme's
+    QTRY_VERIFY(answered);
+    QVERIFY2(said.contains(QStringLiteral("target_pressure")), qPrintable(said));
+    QCOMPARE(doc.caseFile().optimization.objective, std::string("CL/CD"));
+    QCOMPARE(std::get<std::string>(panel().editor("objective")->value()), std::string("CL/CD"));
+    QCOMPARE(stack->count(), undoBefore);
+
+    // Another objective is a valid edit, but the history was written for CL/CD: Resume fails with
+    // the reason in the window's terms, and the history stays as it was.
+    const std::vector<std::string> before = exactRecords(runner().historyJsonlPath());
+    doc.setOption(aero::ui::Document::Section::Optimization, "objective", std::string("CL"));
+    QCOMPARE(stack->count(), undoBefore + 1);
+    window_->actions().optimizeResume->trigger();
+    QCOMPARE(waitForEnd(), State::Failed);
+    qInfo("resume of another problem: %s", qPrintable(panel().statusText()));
+    QVERIFY2(panel().statusText().startsWith(QStringLiteral("Failed:")),
+             qPrintable(panel().statusText()));
+    QVERIFY2(runner().reason().contains(QStringLiteral("another problem")),
+             qPrintable(runner().reason()));
+    QVERIFY2(runner().reason().contains(QStringLiteral("Start Over")),
+             qPrintable(runner().reason()));
+    QVERIFY(!runner().reason().contains(QStringLiteral("--fresh")));
+    QCOMPARE(exactRecords(runner().historyJsonlPath()), before);
+    QVERIFY(window_->actions().optimizeResume->isEnabled());
+    stack->undo();
+    QCOMPARE(doc.caseFile().optimization.objective, std::string("CL/CD"));
+
+    // A case without an optimization (the sample, unsaved): Start says what to do, beside the
+    // button and in the status bar; nothing runs.
+    doc.undoStack()->setClean();
+    QString error;
+    QVERIFY2(window_->loadSample(&error), qPrintable(error));
+    QVERIFY(!doc.caseFile().optimization.present);
+    window_->actions().optimizeStart->trigger();
+    QVERIFY(!runner().running());
+    QCOMPARE(runner().state(), State::None);
+    QVERIFY2(panel().statusText().contains(QStringLiteral("no optimization")),
+             qPrintable(panel().statusText()));
+    QVERIFY2(window_->statusBar()->currentMessage() == panel().statusText(),
+             qPrintable(window_->statusBar()->currentMessage()));
 }
 
 int runOptimizationWorkspaceTest(int argc, char** argv, bool canRender) {

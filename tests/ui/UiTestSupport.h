@@ -115,17 +115,19 @@ inline void click(QWidget* w, QPointF at, Qt::KeyboardModifiers mods = Qt::NoMod
     sendMouse(w, QEvent::MouseButtonRelease, at, Qt::LeftButton, Qt::NoButton, mods);
 }
 
-// Answers the next modal message box by clicking the button named `button` (object name or text).
-inline void answerNextMessageBox(const QString& button, bool* answered = nullptr) {
+// Answers the next modal message box by clicking the button named `button` (object name or text;
+// empty: the box's only button); `text` receives what the box said.
+inline void answerNextMessageBox(const QString& button, bool* answered = nullptr, QString* text = nullptr) {
     auto poll = std::make_shared<std::function<void()>>();
-    *poll = [button, answered, poll] {
+    *poll = [button, answered, text, poll] {
         auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
         if (!box) {
             QTimer::singleShot(20, *poll);
             return;
         }
+        if (text) *text = box->text() + QLatin1Char('\n') + box->informativeText();
         for (QAbstractButton* b : box->buttons())
-            if (b->objectName() == button || b->text() == button) {
+            if (b->objectName() == button || b->text() == button || (button.isEmpty() && box->buttons().size() == 1)) {
                 if (answered) *answered = true;
                 b->click();
                 return;
@@ -192,6 +194,13 @@ class FrameProbe : public QObject {
     double longestFrameMs() const { return viewport_->frameTimes().longestMs; }
     /// The gaps longer than 60 ms: wall, of it rendering the 3D view, the GUI thread's own CPU.
     const std::vector<std::array<double, 3>>& slowGaps() const { return slow_; }
+    /// The `n` longest of them, longest first (for a log that stays short on a long run).
+    std::vector<std::array<double, 3>> longestGaps(std::size_t n) const {
+        std::vector<std::array<double, 3>> out = slow_;
+        std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a[0] > b[0]; });
+        if (out.size() > n) out.resize(n);
+        return out;
+    }
 
   private:
     aero::ui::VtkViewport* viewport_;
