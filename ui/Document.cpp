@@ -6,15 +6,15 @@
 #include <QUndoCommand>
 #include <QUndoStack>
 #include <algorithm>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <vector>
 
+#include "Text.h"
 #include "cad/Iges.h"
 #include "common/Error.h"
-#include "Text.h"
 #include "geometry/HalfSphere.h"
 #include "geometry/Topology.h"
 #include "io/CaseWriter.h"
@@ -102,7 +102,8 @@ std::string optimizationKey(const io::CaseFile& c) {
     k.optimization = c.optimization;
     k.flow.present = c.optimization.present;
     std::string key = io::formatCase(k);
-    key += c.minVolume ? (std::isnan(*c.minVolume) ? "\nmin_volume initial" : "\nmin_volume " + std::to_string(*c.minVolume))
+    key += c.minVolume ? (std::isnan(*c.minVolume) ? "\nmin_volume initial"
+                                                   : "\nmin_volume " + std::to_string(*c.minVolume))
                        : "\nmin_volume none";
     return key;
 }
@@ -112,13 +113,20 @@ std::string optimizationKey(const io::CaseFile& c) {
 void checkOptimization(const io::CaseFile& c) {
     const io::OptimizationCase& oc = c.optimization;
     if (!oc.present) return;
-    if (oc.alphaLower >= oc.alphaUpper) throw CaseError("optimization.alpha_upper: must be above alpha_lower");
-    if (oc.alphaVariable && !(c.flow.freeStream.alphaDeg >= oc.alphaLower && c.flow.freeStream.alphaDeg <= oc.alphaUpper))
-        throw CaseError("optimization.alpha_lower: flow.alpha (the start) lies outside [alpha_lower, alpha_upper]");
+    if (oc.alphaLower >= oc.alphaUpper)
+        throw CaseError("optimization.alpha_upper: must be above alpha_lower");
+    if (oc.alphaVariable && !(c.flow.freeStream.alphaDeg >= oc.alphaLower &&
+                              c.flow.freeStream.alphaDeg <= oc.alphaUpper))
+        throw CaseError(
+            "optimization.alpha_lower: flow.alpha (the start) lies outside [alpha_lower, "
+            "alpha_upper]");
     if (oc.objective == "pressure" && oc.targetPressure.empty())
-        throw CaseError("optimization.target_pressure: the objective 'pressure' needs the target's wall pressures (set "
-                        "optimization.target_pressure in the case file)");
-    if (oc.objective == "pressure" && oc.maximize) throw CaseError("optimization.sense: the pressure mismatch is minimized");
+        throw CaseError(
+            "optimization.target_pressure: the objective 'pressure' needs the target's wall "
+            "pressures (set "
+            "optimization.target_pressure in the case file)");
+    if (oc.objective == "pressure" && oc.maximize)
+        throw CaseError("optimization.sense: the pressure mismatch is minimized");
 }
 
 std::array<int, 3> unflatten(const ffd::Lattice& L, int a) {
@@ -714,7 +722,9 @@ void Document::setOption(Section section, const std::string& key, const io::Opti
         option.set(target, value);
         target.present = true;
     };
-    const char* name = section == Section::Flow ? "flow" : section == Section::Mesh ? "mesh" : "optimization";
+    const char* name = section == Section::Flow   ? "flow"
+                       : section == Section::Mesh ? "mesh"
+                                                  : "optimization";
     if (section == Section::Flow) {
         apply(io::flowOptions(), next.flow, name);
         if (flowKey(next) == flowKey(case_)) return;
@@ -728,26 +738,30 @@ void Document::setOption(Section section, const std::string& key, const io::Opti
         if (optimizationKey(next) == optimizationKey(case_)) return;
     }
     edit(tr("Set %1.%2 = %3")
-             .arg(QLatin1String(name), QString::fromStdString(key), QString::fromStdString(io::formatOptionValue(value))),
+             .arg(QLatin1String(name), QString::fromStdString(key),
+                  QString::fromStdString(io::formatOptionValue(value))),
          next);
 }
 
 void Document::setMinVolume(std::optional<double> minimum) {
-    if (minimum && !std::isnan(*minimum) && !(*minimum > 0)) throw CaseError("constraints.min_volume: must be positive");
+    if (minimum && !std::isnan(*minimum) && !(*minimum > 0))
+        throw CaseError("constraints.min_volume: must be positive");
     io::CaseFile next = case_;
     next.minVolume = minimum;
     if (optimizationKey(next) == optimizationKey(case_)) return;
-    edit(!minimum                   ? tr("Remove the volume constraint")
-         : std::isnan(*minimum)     ? tr("Keep the start's volume")
-                                    : tr("Keep the volume at least %1").arg(*minimum, 0, 'g', 6),
+    edit(!minimum               ? tr("Remove the volume constraint")
+         : std::isnan(*minimum) ? tr("Keep the start's volume")
+                                : tr("Keep the volume at least %1").arg(*minimum, 0, 'g', 6),
          next);
 }
 
-void Document::setDesign(const std::vector<double>& values, std::optional<double> alphaDeg, const QString& text) {
+void Document::setDesign(const std::vector<double>& values, std::optional<double> alphaDeg,
+                         const QString& text) {
     const ffd::FfdModel* m = model();
     if (!m || static_cast<int>(values.size()) != m->design().size())
-        throw CaseError("the design has " + std::to_string(values.size()) + " values; the case has " +
-                        std::to_string(m ? m->design().size() : 0) + " design variables");
+        throw CaseError("the design has " + std::to_string(values.size()) +
+                        " values; the case has " + std::to_string(m ? m->design().size() : 0) +
+                        " design variables");
     io::CaseFile next = case_;
     const auto& vars = m->design().variables();
     for (std::size_t i = 0; i < vars.size(); ++i) {

@@ -157,7 +157,8 @@ class Document : public QObject {
     /// Sets every design variable (model order, clamped to its bounds) and, if given, the angle of
     /// attack (flow.alpha) in one undoable step named `text`: e.g. an optimization's evaluation
     /// taken over. Throws CaseError for a design of the wrong size.
-    void setDesign(const std::vector<double>& values, std::optional<double> alphaDeg, const QString& text);
+    void setDesign(const std::vector<double>& values, std::optional<double> alphaDeg,
+                   const QString& text);
 
     /// Displacement of a lattice point in the case (zero if none).
     std::array<double, 3> displacement(int l, int point) const;

@@ -120,7 +120,8 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     meshPanel_ = new MeshPanel(this);
     previewer_ = new MeshPreviewer(document_, jobs_, viewport_, meshScene_.get(), meshPanel_, this);
     flow_ = new FlowWorkspace(document_, jobs_, viewport_, flowScene_.get(), this, this);
-    optimization_ = new OptimizationWorkspace(document_, jobs_, viewport_, optimizationScene_.get(), this, this);
+    optimization_ = new OptimizationWorkspace(document_, jobs_, viewport_, optimizationScene_.get(),
+                                              this, this);
     exports_ = new Exports(
         document_, files_, previewer_, &flow_->runner(), this,
         [this](const QString& path, QString* error) { return saveScreenshot(path, error); },
@@ -136,7 +137,8 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     for (const char* name : {"flowDock", "residualsDock", "sectionsDock"})
         menus_->flow->addAction(findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
     for (const char* name : {"optimizationDock", "optimizationPlotsDock"})
-        menus_->optimize->addAction(findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
+        menus_->optimize->addAction(
+            findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
     connectActions();
     connectDocument();
     if (options_.autosave) {
@@ -192,7 +194,8 @@ void MainWindow::createDocks() {
     QDockWidget* flowDock = dock(this, tr("Flow"), "flowDock", flow_->panel(), true);
     addDockWidget(Qt::RightDockWidgetArea, flowDock);
     tabifyDockWidget(meshDock, flowDock);
-    QDockWidget* optimizationDock = dock(this, tr("Optimization"), "optimizationDock", optimization_->panel(), true);
+    QDockWidget* optimizationDock =
+        dock(this, tr("Optimization"), "optimizationDock", optimization_->panel(), true);
     addDockWidget(Qt::RightDockWidgetArea, optimizationDock);
     tabifyDockWidget(flowDock, optimizationDock);
     varDock->raise();
@@ -204,7 +207,8 @@ void MainWindow::createDocks() {
     addDockWidget(Qt::BottomDockWidgetArea, sectionDock);
     tabifyDockWidget(residualDock, sectionDock);
     // The optimization's plots, shown when a run starts or a history is read back.
-    QDockWidget* plotsDock = dock(this, tr("Optimization Plots"), "optimizationPlotsDock", optimization_->plots(), false);
+    QDockWidget* plotsDock = dock(this, tr("Optimization Plots"), "optimizationPlotsDock",
+                                  optimization_->plots(), false);
     addDockWidget(Qt::BottomDockWidgetArea, plotsDock);
     tabifyDockWidget(sectionDock, plotsDock);
     residualDock->raise();
@@ -311,7 +315,8 @@ void MainWindow::connectActions() {
     toggle(a.patchEdges, scene_->edgesVisible(), [this](bool on) { scene_->setEdgesVisible(on); });
     toggle(a.controlNets, scene_->controlNetsVisible(), [this](bool on) { scene_->setControlNetsVisible(on); });
     toggle(a.lattices, lattices_->visible(), [this](bool on) {
-        lattices_->setVisible(on && !optimization_->viewShown());  // an evaluation's lattices replace the design's
+        lattices_->setVisible(
+            on && !optimization_->viewShown());  // an evaluation's lattices replace the design's
         optimizationScene_->setLatticesVisible(on);
         if (tree_->latticesItem()->checkState(0) != (on ? Qt::Checked : Qt::Unchecked))
             tree_->latticesItem()->setCheckState(0, on ? Qt::Checked : Qt::Unchecked);
@@ -373,8 +378,10 @@ void MainWindow::connectActions() {
     connect(a.optimizePause, &QAction::triggered, optimization_, &OptimizationWorkspace::pause);
     connect(a.optimizeStop, &QAction::triggered, optimization_, &OptimizationWorkspace::stop);
     connect(a.optimizeResume, &QAction::triggered, optimization_, &OptimizationWorkspace::resume);
-    connect(a.optimizeExportShape, &QAction::triggered, optimization_, &OptimizationWorkspace::chooseAndExportShape);
-    connect(a.optimizeExportHistory, &QAction::triggered, optimization_, &OptimizationWorkspace::chooseAndExportHistory);
+    connect(a.optimizeExportShape, &QAction::triggered, optimization_,
+            &OptimizationWorkspace::chooseAndExportShape);
+    connect(a.optimizeExportHistory, &QAction::triggered, optimization_,
+            &OptimizationWorkspace::chooseAndExportHistory);
     // A run, however started, and a history read back bring the panel and the plots forward.
     auto showOptimization = [this] {
         for (const char* name : {"optimizationDock", "optimizationPlotsDock"}) {
@@ -385,9 +392,11 @@ void MainWindow::connectActions() {
         }
     };
     connect(&optimization_->runner(), &OptimizationRunner::started, this, showOptimization);
-    connect(&optimization_->runner(), &OptimizationRunner::stateChanged, this, [this, showOptimization] {
-        if (optimization_->runner().state() == OptimizationRunner::State::Recorded) showOptimization();
-    });
+    connect(&optimization_->runner(), &OptimizationRunner::stateChanged, this,
+            [this, showOptimization] {
+                if (optimization_->runner().state() == OptimizationRunner::State::Recorded)
+                    showOptimization();
+            });
 
     // Help.
     connect(a.mouseAndKeys, &QAction::triggered, this, [this] { showMouseAndKeys(this); });
@@ -459,10 +468,14 @@ void MainWindow::connectDocument() {
 
     // Optimization: an evaluation in the 3D view takes the design's place; a flow solve of the
     // design or an edit of it gives the view back.
-    connect(optimization_, &OptimizationWorkspace::viewShownChanged, this, &MainWindow::applyOptimizationView);
-    connect(&optimization_->runner(), &OptimizationRunner::stateChanged, this, &MainWindow::updateActions);
-    connect(&optimization_->runner(), &OptimizationRunner::recordAdded, this, &MainWindow::updateActions);
-    connect(&flow_->runner(), &FlowRunner::started, this, [this] { optimization_->setViewShown(false); });
+    connect(optimization_, &OptimizationWorkspace::viewShownChanged, this,
+            &MainWindow::applyOptimizationView);
+    connect(&optimization_->runner(), &OptimizationRunner::stateChanged, this,
+            &MainWindow::updateActions);
+    connect(&optimization_->runner(), &OptimizationRunner::recordAdded, this,
+            &MainWindow::updateActions);
+    connect(&flow_->runner(), &FlowRunner::started, this,
+            [this] { optimization_->setViewShown(false); });
     connect(document_, &Document::shapeChanged, this, [this](const QVector<int>& patches) {
         if (!patches.isEmpty() && optimization_->viewShown()) optimization_->setViewShown(false);
     });
@@ -672,7 +685,8 @@ void MainWindow::setView(const std::array<double, 3>& direction, const std::arra
     } else {
         const double aspect = viewport_->height() > 0 ? double(viewport_->width()) / viewport_->height() : 1.0;
         std::vector<double> extra = lattices_->allPoints();
-        const std::vector<double> evaluations = optimizationScene_->viewPoints();  // empty unless shown
+        const std::vector<double> evaluations =
+            optimizationScene_->viewPoints();  // empty unless shown
         extra.insert(extra.end(), evaluations.begin(), evaluations.end());
         scene_->fitCamera(cam, aspect, direction, up, 0.9, &extra);
     }
@@ -773,8 +787,10 @@ bool MainWindow::confirmQuitWhileWorking() {
     }
     if (optimization_->runner().running()) {
         if (!detail.isEmpty()) detail += QStringLiteral("\n\n");
-        detail += tr("The optimization stops within its current flow iteration. Its history (%1) keeps every evaluation "
-                     "finished so far; Optimize > Resume continues it, also after the project is opened again (the "
+        detail += tr("The optimization stops within its current flow iteration. Its history (%1) "
+                     "keeps every evaluation "
+                     "finished so far; Optimize > Resume continues it, also after the project is "
+                     "opened again (the "
                      "interrupted evaluation is solved again).")
                       .arg(optimization_->runner().historyJsonlPath());
     }
@@ -855,7 +871,8 @@ void MainWindow::applyResultVisibility() {
     // A grid's or a flow solution's wall lies on the geometry's surfaces: hide those while one
     // is shown.
     const bool gridWall = previewer_ && previewer_->state() == MeshPreviewer::State::Ready && tree_->gridPartShown(ModelTree::WallPart);
-    const bool wall = gridWall || flowScene_->wallShown() || (optimization_ && optimization_->viewShown());
+    const bool wall =
+        gridWall || flowScene_->wallShown() || (optimization_ && optimization_->viewShown());
     const bool geometryShown = tree_->geometryItem()->checkState(0) == Qt::Checked;
     settingGeometry_ = true;
     if (wall && geometryShown) {

@@ -1,7 +1,7 @@
 #pragma once
 // Where the main window's commands (ActionSet) appear: the menu bar (File, Edit, View, FFD,
-// Mesh, Flow, Optimize, Help) and the tool bar. Layout only: what an action does is connected elsewhere.
-// GUI thread only.
+// Mesh, Flow, Optimize, Help) and the tool bar. Layout only: what an action does is connected
+// elsewhere. GUI thread only.
 class QMainWindow;
 class QMenu;
 class QToolBar;

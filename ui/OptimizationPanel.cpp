@@ -3,6 +3,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QFormLayout>
+#include <QGridLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -161,7 +162,7 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     // Run.
     auto* run = new QGroupBox(tr("Run"), this);
     auto* runLayout = new QVBoxLayout(run);
-    auto* buttons = new QHBoxLayout;
+    auto* buttons = new QGridLayout;  // two by two: the panel fits a narrow dock
     start_ = new QPushButton(tr("Start"), run);
     start_->setObjectName(QStringLiteral("optimizationStart"));
     pause_ = new QPushButton(tr("Pause"), run);
@@ -179,9 +180,11 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     resume_->setToolTip(tr(
         "Continue the history: what it holds is replayed to the optimizer (not solved again), bit "
         "for bit, then the run goes on"));
-    for (QPushButton* b : {start_, pause_, stop_, resume_}) {
+    int at = 0;
+    for (QPushButton* b : {start_, resume_, pause_, stop_}) {
         b->setEnabled(false);
-        buttons->addWidget(b);
+        buttons->addWidget(b, at / 2, at % 2);
+        ++at;
     }
     runLayout->addLayout(buttons);
     connect(start_, &QPushButton::clicked, this,
@@ -293,7 +296,7 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     connect(compare_, &QSpinBox::valueChanged, this, emitCompare);
     connect(compareMode_, &QComboBox::currentIndexChanged, this, emitCompare);
     evalLayout->addLayout(eform);
-    auto* evalButtons = new QHBoxLayout;
+    auto* evalButtons = new QGridLayout;
     use_ = new QPushButton(tr("Use This Design"), eval);
     use_->setObjectName(QStringLiteral("optimizationUseDesign"));
     use_->setToolTip(tr("The project takes this evaluation's design values (one undoable edit)"));
@@ -305,9 +308,11 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     exportShape_ = new QPushButton(tr("Export IGES..."), eval);
     exportShape_->setObjectName(QStringLiteral("optimizationExportShape"));
     exportShape_->setToolTip(tr("This evaluation's shape as exact IGES (17 digits)"));
+    at = 0;
     for (QPushButton* b : {use_, solveFlow_, exportShape_}) {
         b->setEnabled(false);
-        evalButtons->addWidget(b);
+        evalButtons->addWidget(b, at / 2, at % 2);
+        ++at;
     }
     evalLayout->addLayout(evalButtons);
     connect(use_, &QPushButton::clicked, this, &OptimizationPanel::useDesignRequested);

@@ -64,14 +64,29 @@ std::vector<QPointF> level(double y, int evaluations) {
     return {{1.0, y}, {std::max(2.0, static_cast<double>(evaluations)), y}};
 }
 
+// The objective's axis label: short, as the plots are small (the title says it in words).
 QString objectiveLabel(const std::string& name) {
-    if (name == "CL/CD") return QObject::tr("Lift-to-drag ratio CL/CD");
-    if (name == "CL") return QObject::tr("Lift coefficient CL");
-    if (name == "CD") return QObject::tr("Drag coefficient CD");
-    if (name == "CM") return QObject::tr("Moment coefficient CM");
-    if (name == "CY") return QObject::tr("Side-force coefficient CY");
-    if (name == "pressure") return QObject::tr("Pressure mismatch J");
+    if (name == "pressure") return QObject::tr("Mismatch J");
     return QString::fromStdString(name);
+}
+
+// The objective plot's title: "Maximize lift-to-drag ratio".
+QString objectiveTitle(const std::string& name, bool maximize) {
+    QString what = QString::fromStdString(name);
+    if (name == "CL/CD") what = QObject::tr("lift-to-drag ratio");
+    if (name == "CL") what = QObject::tr("lift");
+    if (name == "CD") what = QObject::tr("drag");
+    if (name == "CM") what = QObject::tr("pitching moment");
+    if (name == "CY") what = QObject::tr("side force");
+    if (name == "pressure") what = QObject::tr("pressure mismatch");
+    return (maximize ? QObject::tr("Maximize %1") : QObject::tr("Minimize %1")).arg(what);
+}
+
+// The objective plot's short title: "Max. CL/CD".
+QString objectiveShortTitle(const std::string& name, bool maximize) {
+    const QString what =
+        name == "pressure" ? QObject::tr("mismatch") : QString::fromStdString(name);
+    return (maximize ? QObject::tr("Max. %1") : QObject::tr("Min. %1")).arg(what);
 }
 
 QString csvNumber(double v) {
@@ -103,22 +118,21 @@ OptimizationPlots::OptimizationPlots(QWidget* parent) : QWidget(parent) {
     grid->setContentsMargins(2, 2, 2, 2);
     grid->setSpacing(4);
     objective_ = makePlot(this, "objectivePlot", tr("Objective"), objectiveLabel("CL/CD"));
-    optimality_ = makePlot(this, "optimalityPlot", tr("Optimality and feasibility"),
-                           tr("Optimality, violation"));
+    optimality_ = makePlot(this, "optimalityPlot", tr("Optimality"), tr("Opt. / violation"));
     optimality_->yAxis().log = true;
     optimality_->setPlaceholder(tr("One point per major iteration"));
     lift_ = makePlot(this, "liftPlot", tr("Lift coefficient"), tr("CL"));
     drag_ = makePlot(this, "dragPlot", tr("Drag coefficient"), tr("CD"));
     ratio_ = makePlot(this, "liftToDragPlot", tr("Lift-to-drag ratio"), tr("L/D"));
     volume_ = makePlot(this, "volumePlot", tr("Enclosed volume"), tr("Volume"), tr("length\u00b3"));
-    mach_ = makePlot(this, "machPlot", tr("Largest Mach number"), tr("Max. local Mach"));
+    mach_ = makePlot(this, "machPlot", tr("Largest Mach"), tr("Max. local Mach"));
     residual_ = new ResidualPlot(this);
     residual_->setObjectName(QStringLiteral("optimizationResidualPlot"));
     residual_->setTitle(tr("Flow residual of the current evaluation"));
     residual_->setPlaceholder(tr("The current evaluation's flow solve"));
     const std::vector<PlotWidget*> all = plots();
     for (std::size_t i = 0; i < all.size(); ++i) {
-        all[i]->setMinimumSize(200, 150);
+        all[i]->setMinimumSize(140, 140);  // four across below the view, beside the side docks
         grid->addWidget(all[i], static_cast<int>(i / 4), static_cast<int>(i % 4));
     }
     for (int c = 0; c < 4; ++c) grid->setColumnStretch(c, 1);
@@ -146,9 +160,8 @@ void OptimizationPlots::setProblem(const io::CaseFile& c) {
     objective_->yAxis().unit =
         logObjective_ ? tr("(\u03c1\u221e a\u221e\u00b2)\u00b2 length\u00b2") : QString();
     objective_->yAxis().log = logObjective_;
-    objective_->setTitle(tr("Objective: %1 %2")
-                             .arg(maximize_ ? tr("maximize") : tr("minimize"),
-                                  QString::fromStdString(objectiveName_)));
+    objective_->setTitle(objectiveShortTitle(objectiveName_, maximize_));
+    objective_->setToolTip(objectiveTitle(objectiveName_, maximize_));
     rebuild();
 }
 

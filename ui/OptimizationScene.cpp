@@ -158,9 +158,11 @@ struct OptimizationScene::Impl {
         offset = {0, 0, 0};
         const bool compareOn = visible && compared && mode != CompareMode::Off;
         if (compareOn && mode == CompareMode::SideBySide && shown) {
+            // Above it: the views look at the symmetry plane (Y = 0), so a shift along Y would
+            // hide one behind the other.
             const auto a = bounds(*shown), b = bounds(*compared);
-            const double span = std::max(a[3] - a[2], b[3] - b[2]);
-            offset = {0, a[3] - b[2] + 0.25 * span, 0};
+            const double span = std::max(a[5] - a[4], b[5] - b[4]);
+            offset = {0, 0, a[5] - b[4] + 0.25 * span};
         }
         const bool compareFlowOn =
             compareOn && mode == CompareMode::SideBySide && comparedHasFlow();
@@ -191,6 +193,10 @@ OptimizationScene::OptimizationScene(vtkRenderer* renderer) : d_(std::make_uniqu
     d.flow = std::make_unique<FlowScene>(renderer);
     d.compareFlow = std::make_unique<FlowScene>(renderer);
     d.compareFlow->setColourBarShown(false);
+    // Its wall only: its symmetry plane would lie in the shown one's (or in front of it).
+    d.compareFlow->setPartVisible(FlowPart::Symmetry, false);
+    d.compareFlow->setPartVisible(FlowPart::Slice, false);
+    d.compareFlow->setPartVisible(FlowPart::Contours, false);
     d.lattices = std::make_unique<LatticeScene>(renderer);
     d.shape = std::make_unique<ShapeActor>(renderer, 0.70, 0.76, 0.86);
     d.compareShape = std::make_unique<ShapeActor>(renderer, 0.95, 0.55, 0.15);

@@ -4,9 +4,10 @@
 //              flow solution's wall and symmetry plane coloured by the chosen field (entropy by
 //              default, the paper's Figure 6) with the colour bar, or, when its solution is not
 //              kept, its shape as a plain surface; its moved lattices;
-//   compared   a second evaluation, side by side (moved beside the first along +Y, coloured
-//              alike on the same colour range when its flow is kept) or overlaid (its shape as a
-//              translucent orange surface over the first);
+//   compared   a second evaluation, side by side (moved above the first along +Z, its wall
+//              coloured alike on the same colour range when its flow is kept; its symmetry
+//              plane is not drawn) or overlaid (its shape as a translucent orange surface over
+//              the first);
 //   caption    which evaluations these are, in the view's top left corner.
 // The scene keeps the snapshots it shows (shared, read-only). No VTK type is exposed. GUI thread
 // only; the scene does not render by itself. Destroy it while the viewport's context can be made

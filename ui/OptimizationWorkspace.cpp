@@ -124,7 +124,7 @@ OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs
     connect(runner_, &OptimizationRunner::started, this, [this](bool resumed) {
         newSolve_ = true;
         plots_->residualPlot()->begin(document_->caseFile().flow.newton.relativeTolerance);
-        plots_->residualPlot()->setTitle(tr("Flow residual of the current evaluation"));
+        plots_->residualPlot()->setTitle(tr("Flow residual"));
         if (!resumed) panel_->clearLog();
         panel_->setFollow(true);
         setViewShown(true);
@@ -303,7 +303,7 @@ void OptimizationWorkspace::onFlowReport(const FlowRunProgress& p) {
             newSolve_ = false;
             plots_->residualPlot()->begin(document_->caseFile().flow.newton.relativeTolerance);
             const int k = runner_->running() ? runner_->currentEvaluation() : shown_;
-            plots_->residualPlot()->setTitle(tr("Flow residual of evaluation %1").arg(k));
+            plots_->residualPlot()->setTitle(tr("Residual, eval. %1").arg(k));
         }
         plots_->residualPlot()->add(p);
         if (p.iteration.rejected.empty())
@@ -330,8 +330,6 @@ void OptimizationWorkspace::showEvaluation(int index) {
     panel_->setCurrentEvaluation(index);
     const OptimizationHistory::Evaluation* e = h.evaluation(index);
     scene_->setShown(e ? e->snapshot : nullptr);
-    scene_->setCaption(e ? captionOf(*e, document_->caseFile().optimization.objective)
-                         : std::string());
     applyCompare();
     plots_->setShown(shown_, compared_);
     updateEvaluationPanel();
@@ -348,8 +346,16 @@ void OptimizationWorkspace::compareWith(int index, CompareMode mode) {
 
 void OptimizationWorkspace::applyCompare() {
     const OptimizationHistory::Evaluation* c = runner_->history().evaluation(compared_);
-    scene_->setCompared(c && compared_ != shown_ ? c->snapshot : nullptr,
-                        c ? compareMode_ : CompareMode::Off);
+    const bool comparing = c && c->snapshot && compared_ != shown_;
+    scene_->setCompared(comparing ? c->snapshot : nullptr, c ? compareMode_ : CompareMode::Off);
+    // The caption names what is drawn: the shown evaluation, and the compared one and where.
+    const std::string& objective = document_->caseFile().optimization.objective;
+    const OptimizationHistory::Evaluation* e = runner_->history().evaluation(shown_);
+    std::string caption = e ? captionOf(*e, objective) : std::string();
+    if (e && comparing)
+        caption += (compareMode_ == CompareMode::Overlay ? "\nOverlaid (orange): " : "\nAbove: ") +
+                   captionOf(*c, objective);
+    scene_->setCaption(caption);
 }
 
 bool OptimizationWorkspace::viewShown() const {

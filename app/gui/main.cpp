@@ -142,7 +142,8 @@ int runScreenshot(QApplication& app, aero::ui::MainWindow& window, const GuiOpti
     }
     if (o.optimize) {
         aero::ui::OptimizationRunner& runner = window.optimization().runner();
-        while (runner.loading()) app.processEvents(QEventLoop::AllEvents, 50);  // a history read back
+        while (runner.loading())
+            app.processEvents(QEventLoop::AllEvents, 50);  // a history read back
         using Start = aero::ui::OptimizationRunner::Start;
         if (!runner.start(runner.historyExists() ? Start::Resume : Start::New, &error)) {
             std::fprintf(stderr, "aeroform: %s\n", qPrintable(error));

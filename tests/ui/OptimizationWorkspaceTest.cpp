@@ -415,18 +415,27 @@ void OptimizationWorkspaceTest::compareTwoEvaluations() {
     panel().setComparedEvaluation(1);
     QVERIFY(scene.compared());
     QCOMPARE(scene.compared()->index, 1);
-    QVERIFY(scene.compareOffset()[1] > 0.5);  // beside it, along +Y
+    QVERIFY(scene.compareOffset()[2] >
+            0.5);  // above it, along +Z (the view faces the symmetry plane)
+    QCOMPARE(scene.compareOffset()[1], 0.0);
+    QVERIFY2(
+        QString::fromStdString(scene.caption()).contains(QStringLiteral("\nAbove: Evaluation 1")),
+        scene.caption().c_str());
     window_->resetCamera();
     QVERIFY(window_->viewport()->grabImage().save(
         kScreenshotDir + QStringLiteral("/optimization_side_by_side.png")));
     panel().setCompareMode(aero::ui::CompareMode::Overlay);
     QCOMPARE(scene.compareMode(), aero::ui::CompareMode::Overlay);
-    QCOMPARE(scene.compareOffset()[1], 0.0);
+    QCOMPARE(scene.compareOffset()[2], 0.0);
+    QVERIFY2(QString::fromStdString(scene.caption())
+                 .contains(QStringLiteral("Overlaid (orange): Evaluation 1")),
+             scene.caption().c_str());
     window_->resetCamera();
     QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir +
                                                   QStringLiteral("/optimization_overlay.png")));
     panel().setComparedEvaluation(0);
     QVERIFY(!scene.compared());
+    QVERIFY(!QString::fromStdString(scene.caption()).contains(QLatin1Char('\n')));
     window_->resetCamera();
 }
 
@@ -475,6 +484,15 @@ void OptimizationWorkspaceTest::plotsAndHistoryExport() {
         d->raise();
     }
     QTest::qWait(100);
+    // Everything fits a 1280 x 800 window: the plots four across below the view leave the model
+    // tree its width, the panel is not cut at the right (its scroll area has no horizontal bar).
+    auto* model = window_->findChild<QDockWidget*>(QStringLiteral("modelDock"));
+    auto* side = window_->findChild<QDockWidget*>(QStringLiteral("optimizationDock"));
+    qInfo("model dock %d px, optimization dock %d px (the panel needs %d px), plots %d x %d px",
+          model->width(), side->width(), panel().minimumSizeHint().width(), plots().width(),
+          plots().height());
+    QVERIFY(model->width() >= 200);
+    QVERIFY(panel().width() <= side->width());
     const QImage whole = window_->grab().toImage();
     QVERIFY(distinctColours(whole) > 200);
     QVERIFY(whole.save(kScreenshotDir + QStringLiteral("/optimization_window.png")));

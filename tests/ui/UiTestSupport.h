@@ -117,7 +117,8 @@ inline void click(QWidget* w, QPointF at, Qt::KeyboardModifiers mods = Qt::NoMod
 
 // Answers the next modal message box by clicking the button named `button` (object name or text;
 // empty: the box's only button); `text` receives what the box said.
-inline void answerNextMessageBox(const QString& button, bool* answered = nullptr, QString* text = nullptr) {
+inline void answerNextMessageBox(const QString& button, bool* answered = nullptr,
+                                 QString* text = nullptr) {
     auto poll = std::make_shared<std::function<void()>>();
     *poll = [button, answered, text, poll] {
         auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
@@ -127,7 +128,8 @@ inline void answerNextMessageBox(const QString& button, bool* answered = nullptr
         }
         if (text) *text = box->text() + QLatin1Char('\n') + box->informativeText();
         for (QAbstractButton* b : box->buttons())
-            if (b->objectName() == button || b->text() == button || (button.isEmpty() && box->buttons().size() == 1)) {
+            if (b->objectName() == button || b->text() == button ||
+                (button.isEmpty() && box->buttons().size() == 1)) {
                 if (answered) *answered = true;
                 b->click();
                 return;
@@ -215,12 +217,15 @@ class FrameProbe : public QObject {
 
 inline QString loadAverage() {
     QFile f(QStringLiteral("/proc/loadavg"));
-    return f.open(QIODevice::ReadOnly) ? QString::fromLatin1(f.readAll()).section(QLatin1Char(' '), 0, 2) : QStringLiteral("?");
+    return f.open(QIODevice::ReadOnly)
+               ? QString::fromLatin1(f.readAll()).section(QLatin1Char(' '), 0, 2)
+               : QStringLiteral("?");
 }
 
 // Runnable threads per core over the last minute (on a shared machine, other people's work).
 inline double loadPerCore() {
-    return loadAverage().section(QLatin1Char(' '), 0, 0).toDouble() / std::max(1, QThread::idealThreadCount());
+    return loadAverage().section(QLatin1Char(' '), 0, 0).toDouble() /
+           std::max(1, QThread::idealThreadCount());
 }
 
 }  // namespace aero::uitest

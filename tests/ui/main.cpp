@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
     if (wanted("LatticeEditorTest")) failed += runLatticeEditorTest(argc, argv, canRender);
     if (wanted("MeshPreviewTest")) failed += runMeshPreviewTest(argc, argv, canRender);
     if (wanted("FlowSolveTest")) failed += runFlowSolveTest(argc, argv, canRender);
-    if (wanted("OptimizationWorkspaceTest")) failed += runOptimizationWorkspaceTest(argc, argv, canRender);
+    if (wanted("OptimizationWorkspaceTest"))
+        failed += runOptimizationWorkspaceTest(argc, argv, canRender);
     return failed == 0 ? 0 : 1;
 }
