@@ -124,7 +124,6 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
         rows_.push_back({key, e});
     };
     for (const Shown& s : kProblem) addEditor(form, problem, s);
-    layout->addWidget(problem);
 
     auto* constraints = new QGroupBox(tr("Constraints"), this);
     auto* cform = new QFormLayout(constraints);
@@ -157,7 +156,6 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     linear_->setWordWrap(true);
     linear_->setStyleSheet(QStringLiteral("QLabel { color: #505868; }"));
     cform->addRow(tr("Linear"), linear_);
-    layout->addWidget(constraints);
 
     // Run.
     auto* run = new QGroupBox(tr("Run"), this);
@@ -221,7 +219,6 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
         tr("The optimizer's log: evaluations, gradients and iterations as `aeroform-cli optimize` "
            "prints them"));
     runLayout->addWidget(log_);
-    layout->addWidget(run);
 
     // Evaluation (the history slider).
     auto* eval = new QGroupBox(tr("Evaluation"), this);
@@ -318,7 +315,11 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
     connect(use_, &QPushButton::clicked, this, &OptimizationPanel::useDesignRequested);
     connect(solveFlow_, &QPushButton::clicked, this, &OptimizationPanel::solveFlowRequested);
     connect(exportShape_, &QPushButton::clicked, this, &OptimizationPanel::exportShapeRequested);
-    layout->addWidget(eval);
+    // The run and its evaluations first (what is watched while it works), the problem below.
+    layout->insertWidget(0, run);
+    layout->insertWidget(1, eval);
+    layout->addWidget(problem);
+    layout->addWidget(constraints);
 
     // Files.
     auto* files = new QGroupBox(tr("Files"), this);

@@ -1,10 +1,5 @@
 #pragma once
-// The "Optimization" panel:
-//   Problem      the case's optimization section: objective and sense, optimizer, limits
-//                (evaluations, iterations), tolerances, the constraints (enclosed volume, lift,
-//                grid validity; the linear ones the case has), the angle of attack as a
-//                variable; edits of the case (undoable) with the ranges and descriptions of the
-//                case file's option table (io::optimizationOptions());
+// The "Optimization" panel, top to bottom (what is watched while a run works comes first):
 //   Run          Start (Start Over when a history exists), Pause (after the evaluation being
 //                computed), Stop, Resume (from the history file, also after a restart of the
 //                application); the run's state and the optimizer's log;
@@ -12,6 +7,11 @@
 //                flow in the 3D view (follow the run, or stay on one), a second evaluation to
 //                compare with (side by side or overlaid), Use This Design (the document takes its
 //                design values), Solve Its Flow (when its solution is not kept), Export Shape;
+//   Problem      the case's optimization section: objective and sense, optimizer, limits
+//                (evaluations, iterations), tolerances, the constraints (enclosed volume, lift,
+//                grid validity; the linear ones the case has), the angle of attack as a
+//                variable; edits of the case (undoable) with the ranges and descriptions of the
+//                case file's option table (io::optimizationOptions());
 //   Files        the history file, Export History, Export Plots;
 //   Sensitivities dJ/dv of every design variable at the last gradient, as signed bars, sortable.
 // The panel only shows and asks: OptimizationRunner runs, the workspace wires. GUI thread only;

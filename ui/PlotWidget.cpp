@@ -504,14 +504,17 @@ std::vector<PlotWidget::Primitive> PlotWidget::primitives(QSizeF size) const {
     rect(a, {}, kFrame, 1);
     if (!x_.label.isEmpty())
         text({a.center().x(), size.height() - 8},
-             elided(axisTitle(x_), kLabelFont, size.width() - 8), Qt::AlignHCenter, kLabelFont);
+             elided(axisTitle(x_), kLabelFont,
+                    2 * std::min(a.center().x(), size.width() - a.center().x()) - 8),
+             Qt::AlignHCenter, kLabelFont);
     if (!y_.label.isEmpty())
         text({8 + kLabelFont, a.center().y()}, elided(axisTitle(y_), kLabelFont, a.height() + 10),
              Qt::AlignHCenter, kLabelFont, false, true);
 
     if (f.empty && !placeholder_.isEmpty())
-        text(a.center() + QPointF(0, 0.35 * kLabelFont), placeholder_, Qt::AlignHCenter, kLabelFont, false, false,
-             QColor(130, 134, 144));
+        text(a.center() + QPointF(0, 0.35 * kLabelFont),
+             elided(placeholder_, kLabelFont, a.width() - 8), Qt::AlignHCenter, kLabelFont, false,
+             false, QColor(130, 134, 144));
 
     // Series: polylines kept inside the plot area, then markers.
     auto inside = [&](QPointF p) { return a.adjusted(-1, -1, 1, 1).contains(p); };
