@@ -561,12 +561,21 @@ void OptimizationWorkspaceTest::oneRunAtATime() {
     // Stop: within a flow iteration; the history keeps what was finished.
     QVERIFY(
         QTest::qWaitFor([this] { return plots().residualPlot()->points() >= 2; }, kRunTimeoutMs));
+    // Counted in flow iterations, not seconds (a slow machine takes longer for the same work):
+    // the one iterating when Stop came may finish, and one report of it may still be on its way.
+    int iterationsAfterStop = 0;
+    auto counting = connect(
+        &runner(), &OptimizationRunner::flowReported, this,
+        [&](const aero::ui::FlowRunProgress& p) { iterationsAfterStop += p.hasIteration ? 1 : 0; });
     QElapsedTimer clock;
     clock.start();
     window_->actions().optimizeStop->trigger();
     QCOMPARE(waitForEnd(), State::Stopped);
-    qInfo("stopped %lld ms after Stop", clock.elapsed());
-    QVERIFY(clock.elapsed() < 20000);
+    disconnect(counting);
+    qInfo("stopped %lld ms after Stop, %d flow iterations reported after it", clock.elapsed(),
+          iterationsAfterStop);
+    QVERIFY2(iterationsAfterStop <= 2,
+             qPrintable(QStringLiteral("%1 iterations").arg(iterationsAfterStop)));
     QVERIFY2(panel().statusText().startsWith(QStringLiteral("Stopped with")),
              qPrintable(panel().statusText()));
 }
