@@ -35,7 +35,7 @@ PlotWidget* makePlot(QWidget* parent, const char* name, const QString& title, co
     p->xAxis().minimumSpan = 4;
     p->yAxis().label = yLabel;
     p->yAxis().unit = yUnit;
-    p->setPlaceholder(QObject::tr("One point per evaluation"));
+    p->setPlaceholder(QObject::tr("No data yet"));
     return p;
 }
 
@@ -120,7 +120,7 @@ OptimizationPlots::OptimizationPlots(QWidget* parent) : QWidget(parent) {
     objective_ = makePlot(this, "objectivePlot", tr("Objective"), objectiveLabel("CL/CD"));
     optimality_ = makePlot(this, "optimalityPlot", tr("Optimality"), tr("Opt. / violation"));
     optimality_->yAxis().log = true;
-    optimality_->setPlaceholder(tr("One point per iteration"));
+    optimality_->setPlaceholder(tr("No data yet"));
     lift_ = makePlot(this, "liftPlot", tr("Lift coefficient"), tr("CL"));
     drag_ = makePlot(this, "dragPlot", tr("Drag coefficient"), tr("CD"));
     ratio_ = makePlot(this, "liftToDragPlot", tr("Lift-to-drag ratio"), tr("L/D"));
@@ -129,7 +129,7 @@ OptimizationPlots::OptimizationPlots(QWidget* parent) : QWidget(parent) {
     residual_ = new ResidualPlot(this);
     residual_->setObjectName(QStringLiteral("optimizationResidualPlot"));
     residual_->setTitle(tr("Flow residual of the current evaluation"));
-    residual_->setPlaceholder(tr("Flow solves as they run"));
+    residual_->setPlaceholder(tr("No solve yet"));
     const std::vector<PlotWidget*> all = plots();
     for (std::size_t i = 0; i < all.size(); ++i) {
         all[i]->setMinimumSize(140, 140);  // four across below the view, beside the side docks

@@ -333,6 +333,7 @@ void OptimizationWorkspace::showEvaluation(int index) {
     applyCompare();
     plots_->setShown(shown_, compared_);
     updateEvaluationPanel();
+    applyView();  // the first evaluation to show takes the view the run asked for
     viewport_->requestRender();
 }
 
@@ -363,9 +364,17 @@ bool OptimizationWorkspace::viewShown() const {
 }
 
 void OptimizationWorkspace::setViewShown(bool on) {
+    viewWanted_ = on;
     panel_->setViewShown(on);
-    scene_->setVisible(on);
+    applyView();
     viewport_->requestRender();
+}
+
+void OptimizationWorkspace::applyView() {
+    // Only an evaluation takes the view: until the first one is recorded the project's design
+    // (and its lattices) stay, rather than an empty view.
+    const bool on = viewWanted_ && scene_->shown() != nullptr;
+    scene_->setVisible(on);
     if (on != lastViewShown_) {
         lastViewShown_ = on;
         emit viewShownChanged(on);

@@ -54,7 +54,8 @@ class OptimizationWorkspace : public QObject {
     int shownEvaluation() const { return shown_; }
     /// Compares evaluation `index` with the shown one (0: none).
     void compareWith(int index, CompareMode mode);
-    /// Whether an evaluation takes the 3D view now.
+    /// Whether an evaluation takes the 3D view now: asked for (setViewShown, the panel's "Show in
+    /// 3D view") and one to show.
     bool viewShown() const;
     void setViewShown(bool on);
 
@@ -87,6 +88,7 @@ class OptimizationWorkspace : public QObject {
     void updateEvaluationPanel();
     void updateSensitivities();
     void applyCompare();
+    void applyView();
     QString askPath(const QString& title, const QString& name, const QString& filter) const;
 
     Document* document_;
@@ -100,6 +102,7 @@ class OptimizationWorkspace : public QObject {
     int compared_ = 0;
     CompareMode compareMode_ = CompareMode::SideBySide;
     bool newSolve_ = true;
+    bool viewWanted_ = false;
     bool lastViewShown_ = false;
 };
 

@@ -244,6 +244,9 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
     clock.start();
     a.optimizeStart->trigger();
     QCOMPARE(runner().state(), State::Running);
+    // Until the first evaluation is recorded the view keeps the project's design (not a blank).
+    QVERIFY(!window_->optimization().viewShown());
+    QVERIFY(window_->scene().surfacesVisible());
     QVERIFY(a.optimizePause->isEnabled());
     QVERIFY(a.optimizeStop->isEnabled());
     QVERIFY(window_->jobs().running(QStringLiteral("optimization")) != nullptr);
@@ -508,10 +511,15 @@ void OptimizationWorkspaceTest::pauseStopsAtAnEvaluationAndResumeReachesTheSameR
     QVERIFY(answered);
     QCOMPARE(runner().state(), State::Running);
     QCOMPARE(runner().history().evaluationCount(), 0);
+    QVERIFY(!window_->optimization().viewShown());  // nothing to show yet: the design stays
     QCOMPARE(plots().objectivePoints(), 0);
     // Pause while the first evaluation's flow iterates: it ends after that evaluation.
     QVERIFY(
         QTest::qWaitFor([this] { return plots().residualPlot()->points() >= 1; }, kRunTimeoutMs));
+    // The window while it works (for people to look at): Pause and Stop enabled, the state busy.
+    QVERIFY(panel().pauseButton()->isEnabled());
+    QVERIFY(
+        window_->grab().save(kScreenshotDir + QStringLiteral("/optimization_running_window.png")));
     window_->actions().optimizePause->trigger();
     QCOMPARE(runner().state(), State::Pausing);
     QVERIFY(!window_->actions().optimizePause->isEnabled());
