@@ -41,7 +41,12 @@ void OptimizationHistory::add(const study::OptimizationRecord& r,
             }
             Evaluation& e = evaluations_[k - 1];
             e.record = r;
-            if (snapshot) e.snapshot = std::move(snapshot);
+            // A replayed evaluation (Resume) whose solution this session still holds keeps it:
+            // the same design, solved then; the replay brings its shape only.
+            const bool keep = r.replayed && snapshot && e.snapshot && e.snapshot->flow &&
+                              e.snapshot->values == snapshot->values &&
+                              e.snapshot->alphaDeg == snapshot->alphaDeg;
+            if (snapshot && !keep) e.snapshot = std::move(snapshot);
             dropOldFlows();
             break;
         }

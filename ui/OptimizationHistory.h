@@ -6,7 +6,8 @@
 //   evaluations  values records by number (1, 2, ...), each with its snapshot;
 //   iterations   the optimizer's major iterations by number (0: the start);
 //   gradient     the last gradient record (dJ/dv of the optimizer's variables).
-// A replayed record (a resumed run, or a history read back) replaces the one of the same number;
+// A replayed record (a resumed run, or a history read back) replaces the one of the same number
+// (keeping the solution this session has of that same design);
 // a new evaluation numbered k drops whatever the history held from k on (a run that left the
 // recorded path). Flow solutions are large (the grid, the state and four fields per node): only
 // the newest `keptFlows` of them are kept, besides the first evaluation's.
