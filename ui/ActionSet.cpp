@@ -133,6 +133,44 @@ ActionSet::ActionSet(QObject* owner, QUndoStack* stack) {
                         QObject::tr("Continue the run that was stopped, from its restart file"));
     flowContinue->setIcon(appIcon(QStringLiteral("flow-continue"), QStyle::SP_MediaSeekForward));
 
+    // Optimize.
+    optimizeStart = make(
+        QObject::tr("&Start"), "actionOptimizeStart",
+        QObject::tr(
+            "Run the case's optimization in the background: each evaluation a flow solve, each "
+            "gradient an adjoint, the history written as it runs and plotted live"));
+    optimizeStart->setShortcut(QKeySequence(Qt::Key_F7));
+    optimizeStart->setIconText(QObject::tr("Optimize"));
+    optimizeStart->setIcon(appIcon(QStringLiteral("optimize"), QStyle::SP_MediaPlay));
+    optimizePause =
+        make(QObject::tr("&Pause"), "actionOptimizePause",
+             QObject::tr(
+                 "Pause after the evaluation (or gradient) being computed; Resume continues it"));
+    optimizePause->setIconText(QObject::tr("Pause"));
+    optimizePause->setIcon(appIcon(QStringLiteral("optimize-pause"), QStyle::SP_MediaPause));
+    optimizeStop = make(
+        QObject::tr("S&top"), "actionOptimizeStop",
+        QObject::tr(
+            "Stop within the current flow iteration (the interrupted evaluation is solved again "
+            "on Resume)"));
+    optimizeStop->setShortcut(QKeySequence(Qt::SHIFT | Qt::Key_F7));
+    optimizeStop->setIcon(appIcon(QStringLiteral("flow-stop"), QStyle::SP_MediaStop));
+    optimizeResume =
+        make(QObject::tr("&Resume"), "actionOptimizeResume",
+             QObject::tr(
+                 "Continue the optimization's history (also one a closed or crashed session left): "
+                 "what it holds is replayed, not solved again"));
+    optimizeResume->setIconText(QObject::tr("Resume"));
+    optimizeResume->setIcon(
+        appIcon(QStringLiteral("optimize-resume"), QStyle::SP_MediaSeekForward));
+    optimizeExportShape =
+        make(QObject::tr("Export Evaluation's &Shape (IGES)..."), "actionOptimizeExportShape",
+             QObject::tr("The shape of the evaluation shown (the history slider) as exact IGES"));
+    optimizeExportHistory =
+        make(QObject::tr("Export &History..."), "actionOptimizeExportHistory",
+             QObject::tr("The optimization history: every evaluation and gradient (CSV), the major "
+                         "iterations (CSV) and the exact records (JSON lines)"));
+
     // Help.
     mouseAndKeys = make(QObject::tr("&Mouse and Keys"), "actionMouseAndKeys");
     about = make(QObject::tr("&About Aeroform"), "actionAbout");

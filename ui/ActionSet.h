@@ -57,6 +57,13 @@ struct ActionSet {
     QAction* flowSolve = nullptr;
     QAction* flowStop = nullptr;
     QAction* flowContinue = nullptr;
+    // Optimize.
+    QAction* optimizeStart = nullptr;          // a new run (Start Over when a history exists: asks)
+    QAction* optimizePause = nullptr;          // after the evaluation being computed
+    QAction* optimizeStop = nullptr;           // within a flow iteration
+    QAction* optimizeResume = nullptr;         // continue the history
+    QAction* optimizeExportShape = nullptr;    // the shown evaluation's shape as IGES
+    QAction* optimizeExportHistory = nullptr;  // the history files
     // Help.
     QAction* mouseAndKeys = nullptr;
     QAction* about = nullptr;

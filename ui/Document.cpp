@@ -7,13 +7,14 @@
 #include <QUndoStack>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <vector>
 
+#include "Text.h"
 #include "cad/Iges.h"
 #include "common/Error.h"
-#include "Text.h"
 #include "geometry/HalfSphere.h"
 #include "geometry/Topology.h"
 #include "io/CaseWriter.h"
@@ -99,6 +100,40 @@ std::string flowKey(const io::CaseFile& c) {
     k.flow = c.flow;
     k.flow.present = true;
     return io::formatCase(k);
+}
+
+// Canonical text of the case's optimization problem: its section and the volume constraint.
+std::string optimizationKey(const io::CaseFile& c) {
+    io::CaseFile k;
+    k.path = c.path;
+    k.optimization = c.optimization;
+    k.flow.present = c.optimization.present;
+    std::string key = io::formatCase(k);
+    key += c.minVolume ? (std::isnan(*c.minVolume) ? "\nmin_volume initial"
+                                                   : "\nmin_volume " + std::to_string(*c.minVolume))
+                       : "\nmin_volume none";
+    return key;
+}
+
+// The case parser's checks of an optimization section that involve more than one key
+// (io/CaseFile.cpp), for edits made in the window.
+void checkOptimization(const io::CaseFile& c) {
+    const io::OptimizationCase& oc = c.optimization;
+    if (!oc.present) return;
+    if (oc.alphaLower >= oc.alphaUpper)
+        throw CaseError("optimization.alpha_upper: must be above alpha_lower");
+    if (oc.alphaVariable && !(c.flow.freeStream.alphaDeg >= oc.alphaLower &&
+                              c.flow.freeStream.alphaDeg <= oc.alphaUpper))
+        throw CaseError(
+            "optimization.alpha_lower: flow.alpha (the start) lies outside [alpha_lower, "
+            "alpha_upper]");
+    if (oc.objective == "pressure" && oc.targetPressure.empty())
+        throw CaseError(
+            "optimization.target_pressure: the objective 'pressure' needs the target's wall "
+            "pressures (set "
+            "optimization.target_pressure in the case file)");
+    if (oc.objective == "pressure" && oc.maximize)
+        throw CaseError("optimization.sense: the pressure mismatch is minimized");
 }
 
 std::array<int, 3> unflatten(const ffd::Lattice& L, int a) {
@@ -464,6 +499,7 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     const bool valuesDiffer = b.values != values_;
     const bool meshDiffers = meshKey(next) != meshKey(case_);
     const bool flowDiffers = flowKey(next) != flowKey(case_);
+    const bool optimizationDiffers = optimizationKey(next) != optimizationKey(case_);
     case_ = std::move(next);
     if (b.evaluator) {
         evaluator_ = std::move(b.evaluator);
@@ -478,6 +514,7 @@ void Document::applyCase(const io::CaseFile& nextIn) {
     if (valuesDiffer || structure) emit valuesChanged();
     if (meshDiffers) emit meshOptionsChanged();
     if (flowDiffers) emit flowOptionsChanged();
+    if (optimizationDiffers) emit optimizationOptionsChanged();
     show(std::move(b.shape));
 }
 
@@ -690,15 +727,62 @@ void Document::setOption(Section section, const std::string& key, const io::Opti
         option.set(target, value);
         target.present = true;
     };
-    if (section == Section::Flow)
-        apply(io::flowOptions(), next.flow, "flow");
-    else
-        apply(io::meshOptions(), next.mesh, "mesh");
-    if (section == Section::Flow ? flowKey(next) == flowKey(case_) : meshKey(next) == meshKey(case_)) return;
+    const char* name = section == Section::Flow   ? "flow"
+                       : section == Section::Mesh ? "mesh"
+                                                  : "optimization";
+    if (section == Section::Flow) {
+        apply(io::flowOptions(), next.flow, name);
+        if (flowKey(next) == flowKey(case_)) return;
+    } else if (section == Section::Mesh) {
+        apply(io::meshOptions(), next.mesh, name);
+        if (meshKey(next) == meshKey(case_)) return;
+    } else {
+        apply(io::optimizationOptions(), next.optimization, name);
+        next.flow.present = true;  // the objective is a flow functional (as the parser demands)
+        checkOptimization(next);
+        if (optimizationKey(next) == optimizationKey(case_)) return;
+    }
     edit(tr("Set %1.%2 = %3")
-             .arg(section == Section::Flow ? QStringLiteral("flow") : QStringLiteral("mesh"), QString::fromStdString(key),
+             .arg(QLatin1String(name), QString::fromStdString(key),
                   QString::fromStdString(io::formatOptionValue(value))),
          next);
+}
+
+void Document::setMinVolume(std::optional<double> minimum) {
+    if (minimum && !std::isnan(*minimum) && !(*minimum > 0))
+        throw CaseError("constraints.min_volume: must be positive");
+    io::CaseFile next = case_;
+    next.minVolume = minimum;
+    if (optimizationKey(next) == optimizationKey(case_)) return;
+    edit(!minimum               ? tr("Remove the volume constraint")
+         : std::isnan(*minimum) ? tr("Keep the start's volume")
+                                : tr("Keep the volume at least %1").arg(*minimum, 0, 'g', 6),
+         next);
+}
+
+void Document::setDesign(const std::vector<double>& values, std::optional<double> alphaDeg,
+                         const QString& text) {
+    const ffd::FfdModel* m = model();
+    if (!m || static_cast<int>(values.size()) != m->design().size())
+        throw CaseError("the design has " + std::to_string(values.size()) +
+                        " values; the case has " + std::to_string(m ? m->design().size() : 0) +
+                        " design variables");
+    io::CaseFile next = case_;
+    const auto& vars = m->design().variables();
+    for (std::size_t i = 0; i < vars.size(); ++i) {
+        const ffd::DesignVariable& d = vars[i];
+        const double v = std::clamp(values[i], d.lower, d.upper);
+        if (v == d.baseline)
+            next.values.erase(d.name);
+        else
+            next.values[d.name] = v;
+    }
+    if (alphaDeg) {
+        next.flow.freeStream.alphaDeg = *alphaDeg;
+        next.flow.present = true;
+    }
+    if (next.values == case_.values && flowKey(next) == flowKey(case_)) return;
+    edit(text, next);
 }
 
 // ---- Preview ----------------------------------------------------------------------------------

@@ -145,12 +145,20 @@ class Document : public QObject {
     void setMeshOptions(const std::string& level, int increments);
 
     /// The case sections whose options are self-describing (io/Options.h).
-    enum class Section { Flow, Mesh };
+    enum class Section { Flow, Mesh, Optimization };
     /// Sets option `key` of the case's flow or mesh section to `value`, checked as the case parser
     /// checks it (CaseError naming the key and its range). The section becomes present (it is
     /// written to the project). Mesh "level" resets the grid options to the level's, as in a case
     /// file. One undoable step; no-op when nothing changes.
     void setOption(Section section, const std::string& key, const io::OptionValue& value);
+    /// The optimization's volume constraint (constraints.min_volume): none, the start's (NaN) or
+    /// a value (> 0). One undoable step; no-op when nothing changes.
+    void setMinVolume(std::optional<double> minimum);
+    /// Sets every design variable (model order, clamped to its bounds) and, if given, the angle of
+    /// attack (flow.alpha) in one undoable step named `text`: e.g. an optimization's evaluation
+    /// taken over. Throws CaseError for a design of the wrong size.
+    void setDesign(const std::vector<double>& values, std::optional<double> alphaDeg,
+                   const QString& text);
 
     /// Displacement of a lattice point in the case (zero if none).
     std::array<double, 3> displacement(int l, int point) const;
@@ -181,6 +189,8 @@ class Document : public QObject {
     void meshOptionsChanged();
     /// The case's flow options (caseFile().flow) changed.
     void flowOptionsChanged();
+    /// The case's optimization section or its volume constraint changed.
+    void optimizationOptionsChanged();
     /// injectivity() or failed points changed; problems() says what is wrong.
     void diagnosticsChanged();
     void modifiedChanged(bool modified);

@@ -142,6 +142,8 @@ struct FlowScene::Impl {
     std::array<bool, kFlowParts> visible{true, true, false, false, true};
     int sliceAxis = 1;
     double slicePosition = 0;
+    bool shown = true;
+    bool barShown = true;
 
     vtkNew<vtkLookupTable> lut;
     vtkNew<vtkScalarBarActor> bar;
@@ -269,7 +271,7 @@ struct FlowScene::Impl {
     }
 
     void updateVisibility() {
-        const bool has = result != nullptr;
+        const bool has = result != nullptr && shown;
         bool coloured = false;
         for (FlowPart p : {FlowPart::Wall, FlowPart::Symmetry, FlowPart::Slice}) {
             const bool on = has && visible[static_cast<std::size_t>(p)];
@@ -278,7 +280,7 @@ struct FlowScene::Impl {
             contourActors[s]->SetVisibility(on && visible[static_cast<std::size_t>(FlowPart::Contours)] && contours > 0);
             coloured = coloured || on;
         }
-        bar->SetVisibility(coloured);
+        bar->SetVisibility(coloured && barShown);
         sectionActor->SetVisibility(has && visible[static_cast<std::size_t>(FlowPart::Sections)]);
     }
 };
@@ -448,7 +450,28 @@ bool FlowScene::partVisible(FlowPart part) const {
 }
 
 bool FlowScene::wallShown() const {
-    return d_->result && d_->visible[static_cast<std::size_t>(FlowPart::Wall)];
+    return d_->result && d_->shown && d_->visible[static_cast<std::size_t>(FlowPart::Wall)];
+}
+
+void FlowScene::setShown(bool shown) {
+    d_->shown = shown;
+    d_->updateVisibility();
+}
+
+bool FlowScene::shown() const {
+    return d_->shown;
+}
+
+void FlowScene::setColourBarShown(bool shown) {
+    d_->barShown = shown;
+    d_->updateVisibility();
+}
+
+void FlowScene::setOffset(const std::array<double, 3>& offset) {
+    Impl& d = *d_;
+    for (auto& a : d.surfaceActors) a->SetPosition(offset[0], offset[1], offset[2]);
+    for (auto& a : d.contourActors) a->SetPosition(offset[0], offset[1], offset[2]);
+    d.sectionActor->SetPosition(offset[0], offset[1], offset[2]);
 }
 
 void FlowScene::setSlice(int axis, double position) {

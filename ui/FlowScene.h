@@ -70,6 +70,14 @@ class FlowScene {
     bool partVisible(FlowPart part) const;
     /// Whether the wall of the solution is drawn (the geometry's surfaces make way for it).
     bool wallShown() const;
+    /// Draws nothing while false (the parts keep their switches): e.g. while the optimization's
+    /// evaluations take the view.
+    void setShown(bool shown);
+    bool shown() const;
+    /// The colour bar (on by default; a second scene beside the first shares its bar).
+    void setColourBarShown(bool shown);
+    /// Draws everything moved by `offset` (a copy beside another: the data stays where it is).
+    void setOffset(const std::array<double, 3>& offset);
 
     /// The slice: the plane x (axis 0), y (1) or z (2) = position.
     void setSlice(int axis, double position);

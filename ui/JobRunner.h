@@ -48,6 +48,9 @@ class JobContext {
     bool cancelled() const { return channel_->cancel.load(std::memory_order_relaxed); }
     /// The job's cancellation flag, for libcore routines that poll a `const std::atomic<bool>*`.
     const std::atomic<bool>* cancelFlag() const { return &channel_->cancel; }
+    /// Sets that flag from the work itself, to stop at a point of its own choosing (an
+    /// optimization pausing after a whole evaluation): the job then ends as Cancelled.
+    void requestCancel() const { channel_->cancel.store(true, std::memory_order_relaxed); }
     /// fraction in [0, 1] (negative: unknown), text for the status bar. Thread-safe.
     void status(double fraction, const QString& text = {}) const;
     /// Typed progress for the job's owner (JobSpec::progress). Thread-safe.

@@ -44,6 +44,11 @@
 #include "MeshPreviewer.h"
 #include "MeshScene.h"
 #include "ModelTree.h"
+#include "OptimizationPanel.h"
+#include "OptimizationPlots.h"
+#include "OptimizationRunner.h"
+#include "OptimizationScene.h"
+#include "OptimizationWorkspace.h"
 #include "OverlayScene.h"
 #include "PatchScene.h"
 #include "ProjectFiles.h"
@@ -109,11 +114,14 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     overlay_ = std::make_unique<OverlayScene>(viewport_->renderer());
     meshScene_ = std::make_unique<MeshScene>(viewport_->renderer());
     flowScene_ = std::make_unique<FlowScene>(viewport_->renderer());
+    optimizationScene_ = std::make_unique<OptimizationScene>(viewport_->renderer());
     editor_ = new LatticeEditor(viewport_, document_, selection_, lattices_.get(), this);
 
     meshPanel_ = new MeshPanel(this);
     previewer_ = new MeshPreviewer(document_, jobs_, viewport_, meshScene_.get(), meshPanel_, this);
     flow_ = new FlowWorkspace(document_, jobs_, viewport_, flowScene_.get(), this, this);
+    optimization_ = new OptimizationWorkspace(document_, jobs_, viewport_, optimizationScene_.get(),
+                                              this, this);
     exports_ = new Exports(
         document_, files_, previewer_, &flow_->runner(), this,
         [this](const QString& path, QString* error) { return saveScreenshot(path, error); },
@@ -128,6 +136,9 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     menus_->mesh->addAction(qualityPanel);
     for (const char* name : {"flowDock", "residualsDock", "sectionsDock"})
         menus_->flow->addAction(findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
+    for (const char* name : {"optimizationDock", "optimizationPlotsDock"})
+        menus_->optimize->addAction(
+            findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
     connectActions();
     connectDocument();
     if (options_.autosave) {
@@ -151,6 +162,7 @@ MainWindow::~MainWindow() {
     // Removing the scenes' actors releases their GL objects: do it in the viewport's context
     // (which is still alive; the viewport, a child widget, is destroyed after this body).
     viewport_->makeCurrent();
+    optimizationScene_.reset();
     flowScene_.reset();
     meshScene_.reset();
     overlay_.reset();
@@ -182,6 +194,10 @@ void MainWindow::createDocks() {
     QDockWidget* flowDock = dock(this, tr("Flow"), "flowDock", flow_->panel(), true);
     addDockWidget(Qt::RightDockWidgetArea, flowDock);
     tabifyDockWidget(meshDock, flowDock);
+    QDockWidget* optimizationDock =
+        dock(this, tr("Optimization"), "optimizationDock", optimization_->panel(), true);
+    addDockWidget(Qt::RightDockWidgetArea, optimizationDock);
+    tabifyDockWidget(flowDock, optimizationDock);
     varDock->raise();
 
     // The plots below the view, shown when a solve starts.
@@ -190,9 +206,15 @@ void MainWindow::createDocks() {
     QDockWidget* sectionDock = dock(this, tr("Sections"), "sectionsDock", flow_->sections(), false);
     addDockWidget(Qt::BottomDockWidgetArea, sectionDock);
     tabifyDockWidget(residualDock, sectionDock);
+    // The optimization's plots, shown when a run starts or a history is read back.
+    QDockWidget* plotsDock = dock(this, tr("Optimization Plots"), "optimizationPlotsDock",
+                                  optimization_->plots(), false);
+    addDockWidget(Qt::BottomDockWidgetArea, plotsDock);
+    tabifyDockWidget(sectionDock, plotsDock);
     residualDock->raise();
     residualDock->hide();
     sectionDock->hide();
+    plotsDock->hide();
 
     resizeDocks({treeDock, varDock}, {250, 340}, Qt::Horizontal);
     resizeDocks({treeDock, propDock}, {200, 420}, Qt::Vertical);
@@ -240,6 +262,7 @@ void MainWindow::createStatusBar() {
     connect(exports_, &Exports::message, this, show);
     connect(previewer_, &MeshPreviewer::message, this, show);
     connect(flow_, &FlowWorkspace::message, this, show);
+    connect(optimization_, &OptimizationWorkspace::message, this, show);
 }
 
 void MainWindow::connectActions() {
@@ -292,7 +315,9 @@ void MainWindow::connectActions() {
     toggle(a.patchEdges, scene_->edgesVisible(), [this](bool on) { scene_->setEdgesVisible(on); });
     toggle(a.controlNets, scene_->controlNetsVisible(), [this](bool on) { scene_->setControlNetsVisible(on); });
     toggle(a.lattices, lattices_->visible(), [this](bool on) {
-        lattices_->setVisible(on);
+        lattices_->setVisible(
+            on && !optimization_->viewShown());  // an evaluation's lattices replace the design's
+        optimizationScene_->setLatticesVisible(on);
         if (tree_->latticesItem()->checkState(0) != (on ? Qt::Checked : Qt::Unchecked))
             tree_->latticesItem()->setCheckState(0, on ? Qt::Checked : Qt::Unchecked);
     });
@@ -347,6 +372,31 @@ void MainWindow::connectActions() {
             }
         }
     });
+
+    // Optimize.
+    connect(a.optimizeStart, &QAction::triggered, optimization_, &OptimizationWorkspace::start);
+    connect(a.optimizePause, &QAction::triggered, optimization_, &OptimizationWorkspace::pause);
+    connect(a.optimizeStop, &QAction::triggered, optimization_, &OptimizationWorkspace::stop);
+    connect(a.optimizeResume, &QAction::triggered, optimization_, &OptimizationWorkspace::resume);
+    connect(a.optimizeExportShape, &QAction::triggered, optimization_,
+            &OptimizationWorkspace::chooseAndExportShape);
+    connect(a.optimizeExportHistory, &QAction::triggered, optimization_,
+            &OptimizationWorkspace::chooseAndExportHistory);
+    // A run, however started, and a history read back bring the panel and the plots forward.
+    auto showOptimization = [this] {
+        for (const char* name : {"optimizationDock", "optimizationPlotsDock"}) {
+            if (auto* d = findChild<QDockWidget*>(QString::fromLatin1(name))) {
+                d->show();
+                d->raise();
+            }
+        }
+    };
+    connect(&optimization_->runner(), &OptimizationRunner::started, this, showOptimization);
+    connect(&optimization_->runner(), &OptimizationRunner::stateChanged, this,
+            [this, showOptimization] {
+                if (optimization_->runner().state() == OptimizationRunner::State::Recorded)
+                    showOptimization();
+            });
 
     // Help.
     connect(a.mouseAndKeys, &QAction::triggered, this, [this] { showMouseAndKeys(this); });
@@ -415,6 +465,20 @@ void MainWindow::connectDocument() {
         updateActions();
     });
     connect(&flow_->runner(), &FlowRunner::stateChanged, this, &MainWindow::updateActions);
+
+    // Optimization: an evaluation in the 3D view takes the design's place; a flow solve of the
+    // design or an edit of it gives the view back.
+    connect(optimization_, &OptimizationWorkspace::viewShownChanged, this,
+            &MainWindow::applyOptimizationView);
+    connect(&optimization_->runner(), &OptimizationRunner::stateChanged, this,
+            &MainWindow::updateActions);
+    connect(&optimization_->runner(), &OptimizationRunner::recordAdded, this,
+            &MainWindow::updateActions);
+    connect(&flow_->runner(), &FlowRunner::started, this,
+            [this] { optimization_->setViewShown(false); });
+    connect(document_, &Document::shapeChanged, this, [this](const QVector<int>& patches) {
+        if (!patches.isEmpty() && optimization_->viewShown()) optimization_->setViewShown(false);
+    });
 
     connect(jobs_, &JobRunner::jobStarted, this, &MainWindow::updateActions);
     connect(jobs_, &JobRunner::jobFinished, this, &MainWindow::updateActions);
@@ -582,6 +646,25 @@ void MainWindow::updateActions() {
     a.flowContinue->setEnabled(geometry && !flow.running() && flow.canContinue());
     a.exportFlow->setEnabled(flow.result() != nullptr);
     flow_->panel()->solveButton()->setEnabled(geometry);
+    const OptimizationRunner& opt = optimization_->runner();
+    const bool optBusy = opt.running() || opt.loading();
+    a.optimizeStart->setEnabled(geometry && !optBusy);
+    a.optimizeStart->setText(opt.historyExists() ? tr("&Start Over...") : tr("&Start"));
+    a.optimizePause->setEnabled(opt.state() == OptimizationRunner::State::Running);
+    a.optimizeStop->setEnabled(opt.running());
+    a.optimizeResume->setEnabled(geometry && !optBusy && opt.historyExists());
+    a.optimizeExportShape->setEnabled(optimization_->shownEvaluation() > 0);
+    a.optimizeExportHistory->setEnabled(opt.historyExists());
+}
+
+void MainWindow::applyOptimizationView() {
+    const bool on = optimization_->viewShown();
+    flowScene_->setShown(!on);
+    lattices_->setVisible(!on && actions_->lattices->isChecked());
+    optimizationScene_->setLatticesVisible(actions_->lattices->isChecked());
+    applyResultVisibility();
+    updateActions();
+    viewport_->requestRender();
 }
 
 // ---- Camera ---------------------------------------------------------------------------------------
@@ -601,7 +684,10 @@ void MainWindow::setView(const std::array<double, 3>& direction, const std::arra
         cam->SetViewUp(up.data());
     } else {
         const double aspect = viewport_->height() > 0 ? double(viewport_->width()) / viewport_->height() : 1.0;
-        const std::vector<double> extra = lattices_->allPoints();
+        std::vector<double> extra = lattices_->allPoints();
+        const std::vector<double> evaluations =
+            optimizationScene_->viewPoints();  // empty unless shown
+        extra.insert(extra.end(), evaluations.begin(), evaluations.end());
         scene_->fitCamera(cam, aspect, direction, up, 0.9, &extra);
     }
     ren->ResetCameraClippingRange();
@@ -699,6 +785,15 @@ bool MainWindow::confirmQuitWhileWorking() {
                           "it when you open the project again.")
                            .arg(restart);
     }
+    if (optimization_->runner().running()) {
+        if (!detail.isEmpty()) detail += QStringLiteral("\n\n");
+        detail += tr("The optimization stops within its current flow iteration. Its history (%1) "
+                     "keeps every evaluation "
+                     "finished so far; Optimize > Resume continues it, also after the project is "
+                     "opened again (the "
+                     "interrupted evaluation is solved again).")
+                      .arg(optimization_->runner().historyJsonlPath());
+    }
     QMessageBox box(QMessageBox::Question, tr("Quit While Working"),
                     tr("%1 still running. Stop and quit?").arg(running.join(tr(" and ")) +
                                                               (running.size() == 1 ? tr(" is") : tr(" are"))),
@@ -776,7 +871,8 @@ void MainWindow::applyResultVisibility() {
     // A grid's or a flow solution's wall lies on the geometry's surfaces: hide those while one
     // is shown.
     const bool gridWall = previewer_ && previewer_->state() == MeshPreviewer::State::Ready && tree_->gridPartShown(ModelTree::WallPart);
-    const bool wall = gridWall || flowScene_->wallShown();
+    const bool wall =
+        gridWall || flowScene_->wallShown() || (optimization_ && optimization_->viewShown());
     const bool geometryShown = tree_->geometryItem()->checkState(0) == Qt::Checked;
     settingGeometry_ = true;
     if (wall && geometryShown) {

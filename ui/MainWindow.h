@@ -1,15 +1,16 @@
 #pragma once
 // The desktop application's main window: the VTK viewport in the centre, the model tree and
-// the property panel on the left, the design variables, the mesh quality and the flow panel on
-// the right, the residual history and the spanwise sections below; menus and a tool bar of typed
-// actions (ActionSet, Menus); a status bar that explains problems (non-injective lattices, points
-// outside lattices, tangled grid cells) and shows the running background jobs (JobStatusBar).
+// the property panel on the left, the design variables, the mesh quality, the flow and the
+// optimization panels on the right, the residual history, the spanwise sections and the
+// optimization's plots below; menus and a tool bar of typed actions (ActionSet, Menus); a status
+// bar that explains problems (non-injective lattices, points outside lattices, tangled grid
+// cells) and shows the running background jobs (JobStatusBar).
 //
 // The window assembles the parts and keeps the 3D view in step with the document (shapeChanged
 // -> re-sample those patches in place). Its other concerns live in their own files: project files
 // (ProjectFiles), exports (Exports), the mesh preview (MeshPreviewer), the flow solve and its
-// plots (FlowWorkspace), background work (JobRunner). Quitting while a job runs asks first, then
-// stops and waits for it.
+// plots (FlowWorkspace), the optimization (OptimizationWorkspace), background work (JobRunner).
+// Quitting while a job runs asks first, then stops and waits for it.
 #include <QMainWindow>
 #include <QString>
 #include <QVector>
@@ -36,6 +37,8 @@ class MeshPanel;
 class MeshPreviewer;
 class MeshScene;
 class ModelTree;
+class OptimizationScene;
+class OptimizationWorkspace;
 class OverlayScene;
 class PatchScene;
 class ProjectFiles;
@@ -102,6 +105,8 @@ class MainWindow : public QMainWindow {
     MeshPreviewer& meshPreviewer() const { return *previewer_; }
     FlowScene& flowScene() const { return *flowScene_; }
     FlowWorkspace& flow() const { return *flow_; }
+    OptimizationScene& optimizationScene() const { return *optimizationScene_; }
+    OptimizationWorkspace& optimization() const { return *optimization_; }
     ProjectFiles& files() const { return *files_; }
     /// "20 patches, 720 control points", or "No geometry".
     QString summary() const;
@@ -130,6 +135,9 @@ class MainWindow : public QMainWindow {
     void startMeshPreview();
     void onMeshPreviewStateChanged();
     void startFlowSolve(bool continueRun);
+    /// An optimization's evaluation took the 3D view or gave it back: the design's own
+    /// geometry, lattices and flow solution make way for it, and come back.
+    void applyOptimizationView();
     /// Grid parts as the model tree's boxes say; the geometry's surfaces make way for the
     /// grid's or the flow solution's wall while one is shown (and come back after).
     void applyResultVisibility();
@@ -150,9 +158,11 @@ class MainWindow : public QMainWindow {
     std::unique_ptr<OverlayScene> overlay_;
     std::unique_ptr<MeshScene> meshScene_;
     std::unique_ptr<FlowScene> flowScene_;
+    std::unique_ptr<OptimizationScene> optimizationScene_;
     MeshPanel* meshPanel_ = nullptr;
     MeshPreviewer* previewer_ = nullptr;
     FlowWorkspace* flow_ = nullptr;
+    OptimizationWorkspace* optimization_ = nullptr;
     ProjectFiles* files_ = nullptr;
     Exports* exports_ = nullptr;
     bool geometryHiddenForResults_ = false;  // we unchecked Geometry to show a result's wall

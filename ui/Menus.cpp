@@ -72,6 +72,17 @@ MenuRefs buildMenus(QMainWindow* window, const ActionSet& a) {
     menus.flow->addAction(a.exportFlow);
     menus.flow->addSeparator();
 
+    menus.optimize = bar->addMenu(QObject::tr("&Optimize"));
+    menus.optimize->setToolTipsVisible(true);
+    menus.optimize->addAction(a.optimizeStart);
+    menus.optimize->addAction(a.optimizePause);
+    menus.optimize->addAction(a.optimizeStop);
+    menus.optimize->addAction(a.optimizeResume);
+    menus.optimize->addSeparator();
+    menus.optimize->addAction(a.optimizeExportShape);
+    menus.optimize->addAction(a.optimizeExportHistory);
+    menus.optimize->addSeparator();
+
     QMenu* help = bar->addMenu(QObject::tr("&Help"));
     help->addAction(a.mouseAndKeys);
     help->addAction(a.about);
@@ -96,6 +107,10 @@ QToolBar* buildToolBar(QMainWindow* window, const ActionSet& a) {
     bar->addSeparator();
     bar->addAction(a.flowSolve);
     bar->addAction(a.flowStop);
+    bar->addSeparator();
+    bar->addAction(a.optimizeStart);
+    bar->addAction(a.optimizePause);
+    bar->addAction(a.optimizeResume);
     bar->addSeparator();
     bar->addAction(a.resetCamera);
     return bar;

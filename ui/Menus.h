@@ -1,7 +1,7 @@
 #pragma once
 // Where the main window's commands (ActionSet) appear: the menu bar (File, Edit, View, FFD,
-// Mesh, Flow, Help) and the tool bar. Layout only: what an action does is connected elsewhere.
-// GUI thread only.
+// Mesh, Flow, Optimize, Help) and the tool bar. Layout only: what an action does is connected
+// elsewhere. GUI thread only.
 class QMainWindow;
 class QMenu;
 class QToolBar;
@@ -16,6 +16,7 @@ struct MenuRefs {
     QMenu* panels = nullptr;  // View > Panels (the docks' toggles)
     QMenu* mesh = nullptr;    // Mesh (gets the quality panel's toggle)
     QMenu* flow = nullptr;    // Flow (gets the flow panels' toggles)
+    QMenu* optimize = nullptr;  // Optimize (gets the optimization panels' toggles)
 };
 
 /// Builds the menu bar of `window` from `actions`.

@@ -15,6 +15,7 @@
 #include <QSaveFile>
 #include <QTextStream>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -25,6 +26,7 @@ namespace aero::ui {
 namespace {
 
 constexpr double kTickFont = 10.5;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kLabelFont = 11.5;
 constexpr double kTitleFont = 12.5;
 constexpr double kHoverRadius = 12;  // pixels
@@ -41,6 +43,11 @@ QFont fontPx(double px, bool bold = false) {
 
 double textWidth(const QString& s, double px, bool bold = false) {
     return QFontMetricsF(fontPx(px, bold)).horizontalAdvance(s);
+}
+
+// `s` shortened with an ellipsis to at most `width` pixels (a small plot keeps its text inside).
+QString elided(const QString& s, double px, double width, bool bold = false) {
+    return QFontMetricsF(fontPx(px, bold)).elidedText(s, Qt::ElideRight, std::max(0.0, width));
 }
 
 QString axisTitle(const PlotAxis& a) {
@@ -460,7 +467,10 @@ std::vector<PlotWidget::Primitive> PlotWidget::primitives(QSizeF size) const {
 
     rect(QRectF(QPointF(0, 0), size), Qt::white);
     const QRectF& a = f.area;
-    if (!title_.isEmpty()) text({size.width() / 2, kTitleFont * 1.3}, title_, Qt::AlignHCenter, kTitleFont, true);
+    if (!title_.isEmpty())
+        text({size.width() / 2, kTitleFont * 1.3},
+             elided(title_, kTitleFont, size.width() - 8, true), Qt::AlignHCenter, kTitleFont,
+             true);
 
     // Bands behind everything.
     for (const PlotBand& b : bands_) {
@@ -493,12 +503,18 @@ std::vector<PlotWidget::Primitive> PlotWidget::primitives(QSizeF size) const {
     }
     rect(a, {}, kFrame, 1);
     if (!x_.label.isEmpty())
-        text({a.center().x(), size.height() - 8}, axisTitle(x_), Qt::AlignHCenter, kLabelFont);
-    if (!y_.label.isEmpty()) text({8 + kLabelFont, a.center().y()}, axisTitle(y_), Qt::AlignHCenter, kLabelFont, false, true);
+        text({a.center().x(), size.height() - 8},
+             elided(axisTitle(x_), kLabelFont,
+                    2 * std::min(a.center().x(), size.width() - a.center().x()) - 8),
+             Qt::AlignHCenter, kLabelFont);
+    if (!y_.label.isEmpty())
+        text({8 + kLabelFont, a.center().y()}, elided(axisTitle(y_), kLabelFont, a.height() + 10),
+             Qt::AlignHCenter, kLabelFont, false, true);
 
     if (f.empty && !placeholder_.isEmpty())
-        text(a.center() + QPointF(0, 0.35 * kLabelFont), placeholder_, Qt::AlignHCenter, kLabelFont, false, false,
-             QColor(130, 134, 144));
+        text(a.center() + QPointF(0, 0.35 * kLabelFont),
+             elided(placeholder_, kLabelFont, a.width() - 8), Qt::AlignHCenter, kLabelFont, false,
+             false, QColor(130, 134, 144));
 
     // Series: polylines kept inside the plot area, then markers.
     auto inside = [&](QPointF p) { return a.adjusted(-1, -1, 1, 1).contains(p); };
@@ -529,23 +545,62 @@ std::vector<PlotWidget::Primitive> PlotWidget::primitives(QSizeF size) const {
             }
     }
 
-    // Legend (top right, inside).
+    // Legend (inside, in the corner where it hides the least of the data; top right on a tie).
+    // In a plot too small for it (it would hide data and cover a third of the area) it is left
+    // out: hovering names the series.
     std::vector<const PlotSeries*> listed;
     for (const PlotSeries& s : series_)
         if (s.legend && !s.name.isEmpty()) listed.push_back(&s);
+    QRectF legendBox;
     if (!listed.empty()) {
         double w = 0;
         for (const PlotSeries* s : listed) w = std::max(w, textWidth(s->name, kTickFont));
         const double rowH = kTickFont * 1.5, boxW = w + 38, boxH = rowH * static_cast<double>(listed.size()) + 6;
-        const QRectF box(a.right() - boxW - 6, a.top() + 6, boxW, boxH);
-        rect(box, QColor(255, 255, 255, 235), QColor(200, 203, 210), 1);
+        const std::array<QRectF, 4> corners = {
+            QRectF(a.right() - boxW - 6, a.top() + 6, boxW, boxH),
+            QRectF(a.left() + 6, a.top() + 6, boxW, boxH),
+            QRectF(a.right() - boxW - 6, a.bottom() - boxH - 6, boxW, boxH),
+            QRectF(a.left() + 6, a.bottom() - boxH - 6, boxW, boxH)};
+        std::array<int, 4> hidden{};
+        for (const PlotSeries& s : series_) {
+            QPointF previous(kNaN, kNaN);
+            for (const QPointF& p : s.points) {
+                const QPointF q = f.map(x_, y_, p);
+                if (!std::isfinite(q.x()) || !std::isfinite(q.y())) {
+                    previous = QPointF(kNaN, kNaN);
+                    continue;
+                }
+                // The point and a few along the segment to it (a line crossing the box counts).
+                const int steps = std::isfinite(previous.x()) ? 8 : 1;
+                for (int k = 0; k < steps; ++k) {
+                    const double t = steps == 1 ? 1.0 : static_cast<double>(k + 1) / steps;
+                    const QPointF at =
+                        std::isfinite(previous.x()) ? previous + t * (q - previous) : q;
+                    for (std::size_t c = 0; c < corners.size(); ++c)
+                        hidden[c] += corners[c].contains(at) ? 1 : 0;
+                }
+                previous = q;
+            }
+        }
+        const auto best = std::min_element(hidden.begin(), hidden.end());
+        legendBox = corners[static_cast<std::size_t>(best - hidden.begin())];
+        if ((*best > 0 && boxW * boxH > a.width() * a.height() / 3) || boxW > a.width() - 12 ||
+            boxH > a.height() - 12)
+            listed.clear();
+    }
+    if (!listed.empty()) {
+        const double rowH = kTickFont * 1.5;
+        rect(legendBox, QColor(255, 255, 255, 235), QColor(200, 203, 210), 1);
         for (std::size_t i = 0; i < listed.size(); ++i) {
             const PlotSeries& s = *listed[i];
-            const double y = box.top() + 3 + rowH * (static_cast<double>(i) + 0.5);
-            if (s.lineWidth > 0) line({{box.left() + 6, y}, {box.left() + 26, y}}, s.colour, s.lineWidth, s.lineStyle);
+            const double y = legendBox.top() + 3 + rowH * (static_cast<double>(i) + 0.5);
+            if (s.lineWidth > 0)
+                line({{legendBox.left() + 6, y}, {legendBox.left() + 26, y}}, s.colour, s.lineWidth,
+                     s.lineStyle);
             if (s.marker != MarkerShape::None)
-                marker({box.left() + 16, y}, s.marker, s.markerSize, s.colour, s.marker == MarkerShape::Cross ? QColor() : s.colour);
-            text({box.left() + 32, y + 0.35 * kTickFont}, s.name, Qt::AlignLeft, kTickFont);
+                marker({legendBox.left() + 16, y}, s.marker, s.markerSize, s.colour,
+                       s.marker == MarkerShape::Cross ? QColor() : s.colour);
+            text({legendBox.left() + 32, y + 0.35 * kTickFont}, s.name, Qt::AlignLeft, kTickFont);
         }
     }
 

@@ -429,6 +429,10 @@ void VtkViewport::paintGL() {
     clock.start();
     const double cpu0 = threadCpuMs();
     d_->painting = true;
+    // What is drawn changes between camera fits (a flow solution's symmetry plane, tens of radii
+    // wide, appears after a fit to the geometry): near and far planes fitted to it every frame,
+    // or its nearest part is cut away.
+    d_->renderer->ResetCameraClippingRange();
     d_->window->SetReadyForRendering(true);
     d_->window->Render();
     d_->window->SetReadyForRendering(false);

@@ -3,9 +3,9 @@
 //   aeroform [FILE]                      open FILE (project .json, patch set .json, .igs,
 //                                        .iges), or the sample
 //   aeroform --sample                    open the half-sphere sample with the paper's FFD
-//   aeroform --screenshot OUT.png [--solve] [--window] [--sections] [FILE]
-//                                        open, (solve the flow,) render, save the viewport (or
-//                                        the whole window), exit
+//   aeroform --screenshot OUT.png [--solve | --optimize] [--window] [--sections] [FILE]
+//                                        open, (solve the flow, or run the optimization,)
+//                                        render, save the viewport (or the whole window), exit
 //   aeroform --batch FILE                headless run (no Qt application, no window)
 //
 // Exit codes: 0 success, 1 failure of the work (bad input, cannot write), 2 usage error.
@@ -21,6 +21,8 @@
 #include "FlowRunner.h"
 #include "FlowWorkspace.h"
 #include "MainWindow.h"
+#include "OptimizationRunner.h"
+#include "OptimizationWorkspace.h"
 #include "VtkViewport.h"
 #include "cli/Commands.h"
 
@@ -29,7 +31,8 @@ namespace {
 constexpr const char* kUsage =
     "Usage: aeroform [FILE]\n"
     "       aeroform --sample\n"
-    "       aeroform --screenshot OUT.png [--solve] [--window] [--sections] [FILE | --sample]\n"
+    "       aeroform --screenshot OUT.png [--solve | --optimize] [--window] [--sections]\n"
+    "                [FILE | --sample]\n"
     "       aeroform --batch FILE\n"
     "\n"
     "Aeroform: NURBS / free-form deformation aerodynamic shape design.\n"
@@ -42,6 +45,9 @@ constexpr const char* kUsage =
     "                     (PNG or JPEG by suffix) and exit; needs a display (e.g. xvfb-run)\n"
     "  --solve            with --screenshot: solve the case's flow first (Flow > Solve) and\n"
     "                     show the solution; exit 1 if it does not converge\n"
+    "  --optimize         with --screenshot: run the case's optimization (Optimize > Start,\n"
+    "                     or Resume when its history exists) and show its workspace with\n"
+    "                     the last evaluation; exit 1 if it fails or is stopped\n"
     "  --window           with --screenshot: save the whole window, panels and plots included\n"
     "  --sections         with --solve: show the spanwise sections below the view instead of\n"
     "                     the residual history\n"
@@ -60,6 +66,7 @@ struct GuiOptions {
     QString screenshot;
     bool sample = false;
     bool solve = false;
+    bool optimize = false;
     bool window = false;
     bool sections = false;
 };
@@ -73,6 +80,8 @@ int parseGuiOptions(const QStringList& args, GuiOptions& o) {
             o.sample = true;
         } else if (a == QLatin1String("--solve")) {
             o.solve = true;
+        } else if (a == QLatin1String("--optimize")) {
+            o.optimize = true;
         } else if (a == QLatin1String("--window")) {
             o.window = true;
         } else if (a == QLatin1String("--sections")) {
@@ -89,7 +98,9 @@ int parseGuiOptions(const QStringList& args, GuiOptions& o) {
         }
     }
     if (o.sample && !o.file.isEmpty()) return usageError("give either FILE or --sample");
-    if ((o.solve || o.window) && o.screenshot.isEmpty()) return usageError("--solve and --window go with --screenshot");
+    if ((o.solve || o.optimize || o.window) && o.screenshot.isEmpty())
+        return usageError("--solve, --optimize and --window go with --screenshot");
+    if (o.solve && o.optimize) return usageError("give either --solve or --optimize");
     if (o.sections && !o.solve) return usageError("--sections goes with --solve");
     return -1;
 }
@@ -125,6 +136,23 @@ int runScreenshot(QApplication& app, aero::ui::MainWindow& window, const GuiOpti
                 dock->raise();
             }
         }
+        const int frames = window.viewport()->renderedFrames();
+        timer.restart();
+        waitUntil([&] { return window.viewport()->renderedFrames() > frames; });
+    }
+    if (o.optimize) {
+        aero::ui::OptimizationRunner& runner = window.optimization().runner();
+        while (runner.loading())
+            app.processEvents(QEventLoop::AllEvents, 50);  // a history read back
+        using Start = aero::ui::OptimizationRunner::Start;
+        if (!runner.start(runner.historyExists() ? Start::Resume : Start::New, &error)) {
+            std::fprintf(stderr, "aeroform: %s\n", qPrintable(error));
+            return 1;
+        }
+        while (runner.running()) app.processEvents(QEventLoop::AllEvents, 50);
+        std::fprintf(stderr, "aeroform: %s\n", qPrintable(runner.stateText()));
+        if (runner.state() != aero::ui::OptimizationRunner::State::Finished) code = 1;
+        window.resetCamera();
         const int frames = window.viewport()->renderedFrames();
         timer.restart();
         waitUntil([&] { return window.viewport()->renderedFrames() > frames; });

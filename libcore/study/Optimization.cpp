@@ -622,6 +622,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             r.ok = false;
             r.message = e->message;
         }
+        if (o.onEvaluation) o.onEvaluation(r, *e);
         record(r);
         out.ok = r.ok;
         out.message = r.ok ? std::string() : r.status + ": " + r.message;

@@ -67,6 +67,10 @@ struct OptimizationOptions {
     const std::atomic<bool>* cancel = nullptr;
     Log log;                 // lines for a human
     std::function<void(const OptimizationRecord&)> onRecord;  // every record written or replayed
+    // Every evaluation run here (not replayed, not cancelled), with its record, just before the
+    // record is written: the shape, grid and flow themselves (e.g. for a viewer; read only, on
+    // the optimizer's thread).
+    std::function<void(const OptimizationRecord&, const Evaluation&)> onEvaluation;
     ProgressFn progress;     // the evaluations' stages and flow iterations
 };
 

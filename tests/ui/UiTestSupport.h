@@ -1,14 +1,28 @@
 #pragma once
 // Shared helpers of the GUI tests: screenshot folder (a CI artifact in the build tree), image
-// comparison, synthetic mouse events sent through the same path as real ones.
+// comparison, synthetic mouse events sent through the same path as real ones, answers to modal
+// message boxes, and the GUI thread's frame times while background work runs.
+#include <QAbstractButton>
 #include <QApplication>
+#include <QElapsedTimer>
+#include <QFile>
 #include <QImage>
+#include <QMessageBox>
 #include <QMouseEvent>
 #include <QSet>
 #include <QString>
+#include <QThread>
+#include <QTimer>
 #include <QWidget>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <ctime>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "VtkViewport.h"
 
 namespace aero::uitest {
 
@@ -99,6 +113,119 @@ inline void drag(QWidget* w, QPointF from, QPointF to, int steps = 8, Qt::Keyboa
 inline void click(QWidget* w, QPointF at, Qt::KeyboardModifiers mods = Qt::NoModifier) {
     sendMouse(w, QEvent::MouseButtonPress, at, Qt::LeftButton, Qt::LeftButton, mods);
     sendMouse(w, QEvent::MouseButtonRelease, at, Qt::LeftButton, Qt::NoButton, mods);
+}
+
+// Answers the next modal message box by clicking the button named `button` (object name or text;
+// empty: the box's only button); `text` receives what the box said.
+inline void answerNextMessageBox(const QString& button, bool* answered = nullptr,
+                                 QString* text = nullptr) {
+    auto poll = std::make_shared<std::function<void()>>();
+    *poll = [button, answered, text, poll] {
+        auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+        if (!box) {
+            QTimer::singleShot(20, *poll);
+            return;
+        }
+        if (text) *text = box->text() + QLatin1Char('\n') + box->informativeText();
+        for (QAbstractButton* b : box->buttons())
+            if (b->objectName() == button || b->text() == button ||
+                (button.isEmpty() && box->buttons().size() == 1)) {
+                if (answered) *answered = true;
+                b->click();
+                return;
+            }
+        qWarning("message box without a button '%s'", qPrintable(button));
+        box->reject();
+    };
+    QTimer::singleShot(0, *poll);
+}
+
+// The GUI thread's gaps between ticks of a 5 ms timer while a solve runs, measured three ways:
+//   wall         the longest gap (what a user feels);
+//   no render    the longest gap without the time VTK spent rendering the 3D view in it (with a
+//                software OpenGL, llvmpipe under Xvfb, one frame costs 50-200 ms by itself);
+//   own CPU      the most CPU time the GUI thread used in one gap outside rendering: the work our
+//                code does on the GUI thread, whatever else the machine runs.
+class FrameProbe : public QObject {
+  public:
+    explicit FrameProbe(aero::ui::VtkViewport* viewport) : viewport_(viewport) {
+        timer_.setInterval(5);
+        timer_.setTimerType(Qt::PreciseTimer);
+        connect(&timer_, &QTimer::timeout, this, [this] {
+            const double now = static_cast<double>(clock_.nsecsElapsed()) * 1e-6;
+            const auto frames = viewport_->frameTimes();
+            const double cpu = threadCpuMs();
+            if (last_ >= 0) {
+                const double gap = now - last_, render = frames.totalMs - lastRender_;
+                const double own = (cpu - lastCpu_) - (frames.totalCpuMs - lastRenderCpu_);
+                worst_ = std::max(worst_, gap);
+                worstWithoutRendering_ = std::max(worstWithoutRendering_, gap - render);
+                worstCpu_ = std::max(worstCpu_, own);
+                if (gap > 60) slow_.push_back({gap, render, own});
+                sum_ += gap;
+                ++ticks_;
+            }
+            last_ = now;
+            lastRender_ = frames.totalMs;
+            lastRenderCpu_ = frames.totalCpuMs;
+            lastCpu_ = cpu;
+        });
+    }
+    void start() {
+        clock_.start();
+        last_ = -1;
+        worst_ = worstWithoutRendering_ = worstCpu_ = sum_ = 0;
+        slow_.clear();
+        ticks_ = 0;
+        frames0_ = viewport_->frameTimes().frames;
+        viewport_->resetLongestFrame();
+        timer_.start();
+    }
+    void stop() { timer_.stop(); }
+    static double threadCpuMs() {
+        timespec t{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+    }
+    double worstMs() const { return worst_; }
+    double worstWithoutRenderingMs() const { return worstWithoutRendering_; }
+    double worstOwnCpuMs() const { return worstCpu_; }
+    double meanMs() const { return ticks_ > 0 ? sum_ / static_cast<double>(ticks_) : 0; }
+    long ticks() const { return ticks_; }
+    int frames() const { return viewport_->frameTimes().frames - frames0_; }
+    double longestFrameMs() const { return viewport_->frameTimes().longestMs; }
+    /// The gaps longer than 60 ms: wall, of it rendering the 3D view, the GUI thread's own CPU.
+    const std::vector<std::array<double, 3>>& slowGaps() const { return slow_; }
+    /// The `n` longest of them, longest first (for a log that stays short on a long run).
+    std::vector<std::array<double, 3>> longestGaps(std::size_t n) const {
+        std::vector<std::array<double, 3>> out = slow_;
+        std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a[0] > b[0]; });
+        if (out.size() > n) out.resize(n);
+        return out;
+    }
+
+  private:
+    aero::ui::VtkViewport* viewport_;
+    QTimer timer_;
+    QElapsedTimer clock_;
+    double last_ = -1, lastRender_ = 0, lastRenderCpu_ = 0, lastCpu_ = 0;
+    double worst_ = 0, worstWithoutRendering_ = 0, worstCpu_ = 0, sum_ = 0;
+    long ticks_ = 0;
+    int frames0_ = 0;
+    std::vector<std::array<double, 3>> slow_;
+};
+
+inline QString loadAverage() {
+    QFile f(QStringLiteral("/proc/loadavg"));
+    return f.open(QIODevice::ReadOnly)
+               ? QString::fromLatin1(f.readAll()).section(QLatin1Char(' '), 0, 2)
+               : QStringLiteral("?");
+}
+
+// Runnable threads per core over the last minute (on a shared machine, other people's work).
+inline double loadPerCore() {
+    return loadAverage().section(QLatin1Char(' '), 0, 0).toDouble() /
+           std::max(1, QThread::idealThreadCount());
 }
 
 }  // namespace aero::uitest

@@ -15,6 +15,7 @@ int runLatticeEditorTest(int argc, char** argv, bool canRender);
 int runMeshPreviewTest(int argc, char** argv, bool canRender);
 int runFlowSolveTest(int argc, char** argv, bool canRender);
 int runPatchSceneTest(int argc, char** argv, bool canRender);
+int runOptimizationWorkspaceTest(int argc, char** argv, bool canRender);
 
 int main(int argc, char** argv) {
     // Flow solves run in the background here too: OpenMP must wait passively (as the
@@ -43,5 +44,7 @@ int main(int argc, char** argv) {
     if (wanted("MeshPreviewTest")) failed += runMeshPreviewTest(argc, argv, canRender);
     if (wanted("FlowSolveTest")) failed += runFlowSolveTest(argc, argv, canRender);
     if (wanted("PatchSceneTest")) failed += runPatchSceneTest(argc, argv, canRender);
+    if (wanted("OptimizationWorkspaceTest"))
+        failed += runOptimizationWorkspaceTest(argc, argv, canRender);
     return failed == 0 ? 0 : 1;
 }
