@@ -416,7 +416,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     if (doc.contains("constraints")) {
         const json& k = doc["constraints"];
-        ctx.keys(k, "constraints", {"symmetry", "station_gap", "min_volume"});
+        ctx.keys(k, "constraints", {"symmetry", "station_gap", "min_volume", "thickness", "min_lattice_jacobian"});
         if (k.contains("symmetry")) c.symmetry = ctx.boolean(k["symmetry"], "constraints.symmetry");
         if (k.contains("station_gap")) {
             c.stationGap = ctx.number(k["station_gap"], "constraints.station_gap");
@@ -429,6 +429,37 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
                 c.minVolume = std::numeric_limits<double>::quiet_NaN();
             } else {
                 c.minVolume = ctx.number(mv, "constraints.min_volume");
+            }
+        }
+        if (k.contains("thickness")) {
+            const json& t = k["thickness"];
+            const std::string key = "constraints.thickness";
+            ctx.keys(t, key, {"stations", "chord_fractions", "points", "min_ratio"});
+            ThicknessCase& tc = c.thickness;
+            if (t.contains("stations")) tc.stations = ctx.numberList(t["stations"], key + ".stations");
+            if (t.contains("chord_fractions")) {
+                tc.chordFractions = ctx.numberList(t["chord_fractions"], key + ".chord_fractions");
+                for (std::size_t i = 0; i < tc.chordFractions.size(); ++i) {
+                    const double f = tc.chordFractions[i];
+                    if (!(f > 0 && f < 1)) ctx.fail(key + ".chord_fractions[" + std::to_string(i) + "]", "must lie in (0, 1), got " + std::to_string(f));
+                }
+            }
+            if (tc.stations.empty() != tc.chordFractions.empty()) {
+                ctx.fail(key, "stations and chord_fractions go together (each station is measured at every chord fraction)");
+            }
+            if (t.contains("points")) {
+                const json& ps = t["points"];
+                if (!ps.is_array()) ctx.fail(key + ".points", "expected an array of [x, y] pairs");
+                for (std::size_t i = 0; i < ps.size(); ++i) tc.points.push_back(ctx.numbers<2>(ps[i], key + ".points[" + std::to_string(i) + "]"));
+            }
+            if (!tc.present()) ctx.fail(key, "expected stations with chord_fractions, or points");
+            if (t.contains("min_ratio")) tc.minRatio = ctx.number(t["min_ratio"], key + ".min_ratio");
+            if (!(tc.minRatio > 0 && tc.minRatio <= 10)) ctx.fail(key + ".min_ratio", "must lie in (0, 10] (a fraction of the baseline thickness)");
+        }
+        if (k.contains("min_lattice_jacobian")) {
+            c.minLatticeJacobian = ctx.number(k["min_lattice_jacobian"], "constraints.min_lattice_jacobian");
+            if (!(c.minLatticeJacobian >= 0 && c.minLatticeJacobian < 1)) {
+                ctx.fail("constraints.min_lattice_jacobian", "must lie in [0, 1) (a fraction of the baseline lattice's det J; 0: none)");
             }
         }
     }

@@ -93,6 +93,17 @@ struct OptimizationCase {
                                        // resolved; empty: none
 };
 
+/// Minimum thickness (case key "constraints.thickness"): measured along z at every station y times
+/// chord fraction of that station's section, and at explicit (x, y) points; each point keeps at
+/// least `minRatio` of its baseline thickness (ffd::ThicknessConstraints).
+struct ThicknessCase {
+    std::vector<double> stations;
+    std::vector<double> chordFractions;
+    std::vector<std::array<double, 2>> points;
+    double minRatio = 1;
+    bool present() const { return !points.empty() || !stations.empty(); }
+};
+
 struct CaseFile {
     std::string path;       // the case file itself
     std::string description;  // free text, kept when the GUI saves the case
@@ -107,6 +118,9 @@ struct CaseFile {
     bool symmetry = true;                      // report/enforce symmetry across Y = 0
     std::optional<double> stationGap;          // minimum gap between adjacent stations
     std::optional<double> minVolume;           // absolute; NaN means "initial volume"
+    ThicknessCase thickness;                   // minimum thickness at planform points
+    double minLatticeJacobian = 0;             // smooth bound of det J / det J baseline over the
+                                               // lattices (ffd/ShapeConstraints.h); 0: none
     std::string outputGeometry;                // deformed IGES/JSON (resolved), empty: none
     std::string outputVtk;                     // deformed VTK multiblock (.vtm), empty: none
     MeshCase mesh;

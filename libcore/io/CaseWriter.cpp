@@ -160,6 +160,21 @@ Json caseJson(const CaseFile& c) {
         else
             k["min_volume"] = *c.minVolume;
     }
+    if (c.thickness.present()) {
+        Json t;
+        if (!c.thickness.stations.empty()) {
+            t["stations"] = c.thickness.stations;
+            t["chord_fractions"] = c.thickness.chordFractions;
+        }
+        if (!c.thickness.points.empty()) {
+            Json ps = Json::array();
+            for (const auto& p : c.thickness.points) ps.push_back({p[0], p[1]});
+            t["points"] = std::move(ps);
+        }
+        t["min_ratio"] = c.thickness.minRatio;
+        k["thickness"] = std::move(t);
+    }
+    if (c.minLatticeJacobian > 0) k["min_lattice_jacobian"] = c.minLatticeJacobian;
     doc["constraints"] = std::move(k);
     if (c.mesh.present) {
         // The level names the defaults; every option of the table is written explicitly (the

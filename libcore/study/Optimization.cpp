@@ -12,12 +12,14 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "common/AtomicFile.h"
 #include "common/Error.h"
 #include "common/Format.h"
+#include "ffd/ShapeConstraints.h"
 #include "io/FlowFiles.h"
 #include "io/GeometryVtk.h"
 #include "io/VtkXml.h"
@@ -419,6 +421,32 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (oc.liftConstraint) p.nonlinear.push_back({"CL", oc.targetCL, oc.targetCL});
     const bool gridConstraint = oc.minCornerRatio > 0;
     if (gridConstraint) p.nonlinear.push_back({"grid corner ratio (log)", std::log(oc.minCornerRatio), infinity});
+    // Geometric constraints of the FFD model itself (exact values and gradients, no adjoint).
+    std::optional<ffd::ThicknessConstraints> thickness;
+    if (c.thickness.present()) {
+        try {
+            thickness.emplace(model, ffd::ThicknessSpec{c.thickness.stations, c.thickness.chordFractions, c.thickness.points});
+        } catch (const GeometryError& e) {
+            throw CaseError("'" + c.path + "': constraints.thickness: " + e.what());
+        }
+        for (const ffd::ThicknessPoint& tp : thickness->points()) {
+            p.nonlinear.push_back({tp.name + " / baseline", c.thickness.minRatio, infinity});
+        }
+    }
+    std::optional<ffd::LatticeJacobianBound> jacobianBound;
+    if (c.minLatticeJacobian > 0) {
+        try {
+            jacobianBound.emplace(model);
+        } catch (const GeometryError& e) {
+            throw CaseError("'" + c.path + "': constraints.min_lattice_jacobian: " + e.what());
+        }
+        p.nonlinear.push_back({"lattice det J / baseline (smooth min)", c.minLatticeJacobian, infinity});
+    }
+    auto designRow = [&](const std::vector<double>& dv) {
+        std::vector<double> row(n, 0.0);
+        for (int i = 0; i < nv; ++i) row[i] = dv[i] * scale[i];
+        return row;
+    };
     const double sign = (oc.maximize ? -1.0 : 1.0) * oc.objectiveScale;
     GradientOptions go;
     go.functionals = {oc.objective};
@@ -612,6 +640,10 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 r.cornerRatio = mesh::cornerRatioSmoothMin(e->mesh->grids, ev.baselineGrids(), kCornerRatioRho);
                 r.constraints.push_back(r.cornerRatio);
             }
+            if (thickness) {
+                for (double x : thickness->ratios(v)) r.constraints.push_back(x);
+            }
+            if (jacobianBound) r.constraints.push_back(jacobianBound->value(v));
             writeState(statePath(r.index), e->flow->q);
             keepStates(r.index, lastOk);
             warmFromOf[r.index] = lastOk;
@@ -698,6 +730,10 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                     for (int i = 0; i < nv; ++i) row[i] = fr.dv[i] * scale[i];
                     r.dConstraints.push_back(row);
                 }
+                if (thickness) {
+                    for (const std::vector<double>& dt : thickness->ratioGradients(design(u))) r.dConstraints.push_back(designRow(dt));
+                }
+                if (jacobianBound) r.dConstraints.push_back(designRow(jacobianBound->gradient(design(u))));
             }
         }
         r.seconds = since(t);

@@ -81,6 +81,13 @@ TEST(CaseFile, BadKeysTypesAndValuesNameTheKey) {
     expectCaseError(R"("lattices": [{}], "displacements": [{"index": [9, 0, 0], "delta": [0, 0, 0]}])", "displacements[0].index[0]");
     expectCaseError(R"("embedding": {"tolerance": "tight"})", "embedding.tolerance: expected a number");
     expectCaseError(R"("constraints": {"min_volume": "big"})", "constraints.min_volume");
+    expectCaseError(R"("constraints": {"thickness": {"stations": [0.5]}})", "constraints.thickness: stations and chord_fractions go together");
+    expectCaseError(R"("constraints": {"thickness": {"stations": [0.5], "chord_fractions": [1.2]}})",
+                    "constraints.thickness.chord_fractions[0]: must lie in (0, 1)");
+    expectCaseError(R"("constraints": {"thickness": {"points": [[0.5]]}})", "constraints.thickness.points[0]: expected 2 numbers");
+    expectCaseError(R"("constraints": {"thickness": {"min_ratio": 0.5}})", "constraints.thickness: expected stations with chord_fractions, or points");
+    expectCaseError(R"("constraints": {"thickness": {"points": [[0, 0.5]], "min_ratio": -1}})", "constraints.thickness.min_ratio");
+    expectCaseError(R"("constraints": {"min_lattice_jacobian": 1.5})", "constraints.min_lattice_jacobian: must lie in [0, 1)");
     expectCaseError(R"("output": {"vtk": "x.vtk"})", "output.vtk: must end in .vtm");
     expectCaseError(R"("values": {"a": "b"})", "values.a: expected a number");
     expectCaseError(R"("flow": {"mach": -0.5})", "flow.mach: value -0.500000 outside (0, 10)");

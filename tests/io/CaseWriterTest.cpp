@@ -75,6 +75,11 @@ void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
     EXPECT_EQ(a.allowOutside, b.allowOutside);
     EXPECT_EQ(a.symmetry, b.symmetry);
     EXPECT_EQ(a.stationGap, b.stationGap);
+    EXPECT_EQ(a.thickness.stations, b.thickness.stations);
+    EXPECT_EQ(a.thickness.chordFractions, b.thickness.chordFractions);
+    EXPECT_EQ(a.thickness.points, b.thickness.points);
+    EXPECT_EQ(a.thickness.minRatio, b.thickness.minRatio);
+    EXPECT_EQ(a.minLatticeJacobian, b.minLatticeJacobian);
     ASSERT_EQ(a.minVolume.has_value(), b.minVolume.has_value());
     if (a.minVolume) {
         EXPECT_EQ(std::isnan(*a.minVolume), std::isnan(*b.minVolume));
@@ -175,7 +180,10 @@ const char* kEveryKey = R"({
     {"lattice": "inboard", "index": [2, 3, 1], "delta": [0, 0, -0.05]}
   ],
   "embedding": {"tolerance": 1e-10, "max_iterations": 77, "allow_outside": true},
-  "constraints": {"symmetry": false, "station_gap": 0.02, "min_volume": 1.75},
+  "constraints": {"symmetry": false, "station_gap": 0.02, "min_volume": 1.75,
+                  "thickness": {"stations": [0, 0.5], "chord_fractions": [0.1, 0.30000000000000004], "points": [[0.2, 0.25]],
+                                "min_ratio": 0.8},
+                  "min_lattice_jacobian": 0.15},
   "mesh": {"level": "medium", "farfield_radius": 12.5, "radial_control_points": 9, "control_wall_spacing": 0.003,
            "surface_nodes": 11, "radial_nodes": 21, "grid_wall_spacing": 0.0007, "refine": 1.5, "increments": 4,
            "poisson": 0.1, "size_stiffening": 2, "orthogonality_stiffening": 0.5, "tolerance": 1e-9},
@@ -213,6 +221,8 @@ TEST(CaseWriter, EveryKeyRoundTripsExactly) {
     ASSERT_EQ(c.lattices[0].refine.size(), 2u);
     ASSERT_EQ(c.stations.size(), 2u);
     ASSERT_EQ(c.pointVariables.size(), 2u);
+    ASSERT_EQ(c.thickness.points.size(), 1u);
+    ASSERT_EQ(c.minLatticeJacobian, 0.15);
     ASSERT_EQ(c.displacements.size(), 2u);
     EXPECT_EQ(c.geometry, "/projects/wing/geometry/wing.igs");
     EXPECT_EQ(c.outputVtk, "/elsewhere/wing.vtm");

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ffd/ShapeConstraints.h"
 #include "io/CaseFile.h"
 #include "io/FlowFiles.h"
 #include "study/CaseEvaluator.h"
@@ -65,5 +66,66 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     ASSERT_EQ(vars.size(), 12u);
     for (std::size_t i = 0; i < vars.size(); ++i) {
         EXPECT_NEAR(s.values[i], target.values.at(vars[i].name), 1e-6) << vars[i].name;
+    }
+}
+
+// The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
+// optimizer after the flow ones, with their values at the start and gradient rows in the
+// optimizer's scaled variables (checked against differences of the model's functions).
+TEST(Optimization, ThicknessAndLatticeJacobianConstraintsReachTheOptimizer) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/shape_constraints";
+    std::filesystem::create_directories(dir);
+    io::CaseFile c = small("sphere_to_bwb.json");
+    c.optimization.optimizer = "slsqp";
+    c.optimization.maxIterations = 1;
+    c.optimization.maxEvaluations = 2;
+    c.optimization.rangeScaling = true;
+    c.optimization.history = dir + "/history.csv";
+    c.optimization.iterations.clear();
+    c.thickness.stations = {0.0, 0.5};
+    c.thickness.chordFractions = {0.25, 0.75};
+    c.thickness.minRatio = 0.5;
+    c.minLatticeJacobian = 0.2;
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.fresh = true;
+    std::vector<study::OptimizationRecord> records;
+    o.onRecord = [&](const study::OptimizationRecord& r) { records.push_back(r); };
+    (void)study::optimizeCase(ev, o);
+    const study::OptimizationRecord* values = nullptr;
+    const study::OptimizationRecord* gradient = nullptr;
+    for (const auto& r : records) {
+        if (r.kind == study::OptimizationRecord::Kind::Values && r.ok && !values) values = &r;
+        if (r.kind == study::OptimizationRecord::Kind::Gradient && r.ok && !gradient) gradient = &r;
+    }
+    // The constraint names as the history's header records them.
+    const std::vector<study::OptimizationRecord> file = study::readHistory(study::historyJsonlPath(c.optimization.history));
+    ASSERT_FALSE(file.empty());
+    const std::vector<std::string>& names = file.front().constraintNames;
+    ASSERT_EQ(names.size(), 2u + 4u + 1u);  // volume, grid, 4 thickness points, lattice
+    EXPECT_EQ(names[2], "thickness y=0 x/c=0.25 / baseline");
+    EXPECT_EQ(names[6], "lattice det J / baseline (smooth min)");
+    ASSERT_TRUE(values && gradient);
+    ASSERT_EQ(values->constraints.size(), names.size());
+    for (int k = 2; k < 6; ++k) EXPECT_NEAR(values->constraints[k], 1.0, 1e-12) << names[k];  // the start is the sphere
+    const ffd::FfdModel& model = *ev.model();
+    const ffd::LatticeJacobianBound bound(model);
+    EXPECT_NEAR(values->constraints[6], 1.0 - std::log(static_cast<double>(bound.sampleCount())) / bound.rho(), 1e-12);
+    // Gradient rows in the optimizer's variables (each divided by its range): central differences.
+    const ffd::ThicknessConstraints thick(model, {c.thickness.stations, c.thickness.chordFractions, {}});
+    const auto& vars = model.design().variables();
+    ASSERT_EQ(gradient->dConstraints.size(), names.size());
+    const std::vector<double> v0 = model.design().baselineValues();
+    for (std::size_t i = 0; i < vars.size(); i += 7) {
+        const double range = vars[i].upper - vars[i].lower, h = 1e-6;
+        std::vector<double> up = v0, down = v0;
+        up[i] += h * range;
+        down[i] -= h * range;
+        for (int k = 0; k < 4; ++k) {
+            const double fd = (thick.ratios(up)[k] - thick.ratios(down)[k]) / (2 * h);
+            EXPECT_NEAR(gradient->dConstraints[2 + k][i], fd, 1e-6 * (1 + std::abs(fd))) << names[2 + k] << ", " << vars[i].name;
+        }
+        const double fd = (bound.value(up) - bound.value(down)) / (2 * h);
+        EXPECT_NEAR(gradient->dConstraints[6][i], fd, 1e-5 * (1 + std::abs(fd))) << vars[i].name;
     }
 }
