@@ -170,6 +170,9 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "residual on the grid, or to the first run's when restarted)"));
         o.push_back(integer<FlowCase>("max_iterations", 1, 100000, [](FlowCase& c) -> int& { return c.newton.maxIterations; },
                             "nonlinear iterations"));
+        o.push_back(integer<FlowCase>("stall_iterations", 2, 100000,
+                                      [](FlowCase& c) -> int& { return c.newton.stallIterations; },
+                                      "stop as stalled after this many iterations without a new best residual or a new highest CFL"));
         o.push_back(real<FlowCase>("cfl0", "", 0, false, 1e12, false, [](FlowCase& c) -> double& { return c.newton.cfl0; },
                                    "initial CFL number (the CFL also grows as R0/R)"));
         o.push_back(real<FlowCase>("cfl_growth", "", 1, true, 100, false,
