@@ -6,6 +6,7 @@
 #include "adjoint/GridSensitivity.h"
 #include "common/Error.h"
 #include "common/Format.h"
+#include "ffd/FfdModel.h"
 #include "mesh/MultiBlock.h"
 #include "mesh/Quality.h"
 
@@ -156,6 +157,28 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     t = std::chrono::steady_clock::now();
     Eigen::SparseMatrix<double> dAdv;
     if (ev.model()) dAdv = ev.model()->dUniqueDv();
+    // dA/dB of each lattice: A_p = sum_a W(p, a) B_a for the points p it embeds (the same W for
+    // every coordinate), so dJ/dB_a = sum_p W(p, a) g_A(p).
+    std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> dAdB;
+    if (o.geometrySensitivities && ev.model()) {
+        const ffd::FfdModel& model = *ev.model();
+        for (std::size_t l = 0; l < model.lattices().size(); ++l)
+            dAdB.push_back(ffd::sensitivity(model.lattices()[l].lattice, model.embeddings()[l]));
+    }
+    auto latticeGradients = [&](const std::vector<double>& g) {
+        std::vector<std::vector<double>> out(dAdB.size());
+        for (std::size_t l = 0; l < dAdB.size(); ++l) {
+            const std::vector<int>& points = ev.model()->embeddings()[l].points;
+            out[l].assign(3 * static_cast<std::size_t>(dAdB[l].cols()), 0.0);
+            for (Eigen::Index p = 0; p < dAdB[l].outerSize(); ++p) {
+                const double* gp = &g[3 * static_cast<std::size_t>(points[static_cast<std::size_t>(p)])];
+                for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(dAdB[l], p); it; ++it) {
+                    for (int c = 0; c < 3; ++c) out[l][3 * static_cast<std::size_t>(it.col()) + c] += it.value() * gp[c];
+                }
+            }
+        }
+        return out;
+    };
     std::vector<FunctionalGradient> base(bases.size());
     for (std::size_t p = 0; p < bases.size(); ++p) {
         base[p].name = nameOf(bases[p]);
@@ -168,6 +191,10 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             base[p].dv.assign(dv.data(), dv.data() + dv.size());
         }
         base[p].dalpha = adjoint::alphaDerivative(adj[p], f.mesh, f.metrics, f.q, f.residualOptions, f.forces);
+        if (o.geometrySensitivities) {
+            base[p].dUnique = gA[p];
+            base[p].dLattice = latticeGradients(gA[p]);
+        }
     }
     auto baseOf = [&](adjoint::Functional b) -> const FunctionalGradient& {
         for (std::size_t p = 0; p < bases.size(); ++p) {
@@ -185,6 +212,10 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             const Eigen::Map<const Eigen::VectorXd> g(ga.data(), static_cast<Eigen::Index>(ga.size()));
             const Eigen::VectorXd dv = dAdv.transpose() * g;
             r.dv.assign(dv.data(), dv.data() + dv.size());
+        }
+        if (o.geometrySensitivities) {
+            r.dUnique = gA.back();
+            r.dLattice = latticeGradients(gA.back());
         }
         res.functionals.push_back(r);
     }

@@ -35,6 +35,10 @@ struct GradientOptions {
     /// against the baseline grid, at this rho; 0: not), named kCornerRatio in the result: the
     /// optimizer's grid-validity constraint, through the same mesh adjoint as the functionals.
     double cornerRatioRho = 0;
+    /// Also dJ/dA (FunctionalGradient::dUnique) and dJ/dB (FunctionalGradient::dLattice) of every
+    /// requested functional: for a designer's view of where the geometry and the lattices should
+    /// move (the optimizer does not need them).
+    bool geometrySensitivities = false;
     adjoint::AdjointOptions adjoint;
 };
 
@@ -43,6 +47,12 @@ struct FunctionalGradient {
     double value = 0;
     std::vector<double> dv;  // per design variable (the evaluator's order)
     double dalpha = 0;       // per degree of angle of attack
+    // With GradientOptions::geometrySensitivities (empty otherwise, and without lattices):
+    std::vector<double> dUnique;               // dJ/dA = g_A: 3 per unique control point of the
+                                               // geometry (the model's index() order)
+    std::vector<std::vector<double>> dLattice; // dJ/dB = (dA/dB)^T g_A: per case lattice, 3 per
+                                               // lattice control point (ffd::Lattice order); a
+                                               // lattice point moved by dB changes J by dLattice . dB
 };
 
 struct GradientResult {
