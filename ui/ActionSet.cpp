@@ -89,6 +89,10 @@ ActionSet::ActionSet(QObject* owner, QUndoStack* stack) {
     sensitivity = checkable(QObject::tr("Sensitivity &Arrows"), "actionSensitivity", false,
                             QObject::tr("Arrows dS/dv of the selected design variable"));
     sensitivity->setIcon(appIcon(QStringLiteral("sensitivity")));
+    gradientArrows = checkable(QObject::tr("&Gradient Arrows dJ/dB"), "actionGradientArrows", true,
+                               QObject::tr("Arrows at the lattice points in the direction that improves the objective "
+                                           "(dJ/dB, signed by the objective's sense; the longest drawn at a tenth of "
+                                           "the model), after Flow \u25b8 Compute Sensitivities"));
     orientationAxes = checkable(QObject::tr("Orientation A&xes"), "actionOrientationAxes", true);
     resetCamera = make(QObject::tr("&Reset Camera"), "actionResetCamera");
     resetCamera->setShortcut(QKeySequence(QObject::tr("Ctrl+R")));
@@ -132,6 +136,18 @@ ActionSet::ActionSet(QObject* owner, QUndoStack* stack) {
     flowContinue = make(QObject::tr("&Continue Stopped Run"), "actionFlowContinue",
                         QObject::tr("Continue the run that was stopped, from its restart file"));
     flowContinue->setIcon(appIcon(QStringLiteral("flow-continue"), QStyle::SP_MediaSeekForward));
+
+    computeSensitivities = make(QObject::tr("Compute &Sensitivities"), "actionComputeSensitivities",
+                                QObject::tr("Solve the flow of the design as shown and its adjoint, in the background: "
+                                            "the objective's dJ/dv next to every slider, dJ/dB as arrows at the lattice "
+                                            "points and a first-order prediction of J while you drag. The objective is "
+                                            "the case's optimization objective, else CL/CD"));
+    computeSensitivities->setShortcut(QKeySequence(Qt::Key_F6));
+    cancelSensitivities = make(QObject::tr("Cancel Sensitivities"), "actionCancelSensitivities",
+                               QObject::tr("Stop the sensitivity computation"));
+    confirmPrediction = make(QObject::tr("Confirm &Prediction with a Flow Solve"), "actionConfirmPrediction",
+                             QObject::tr("Solve the flow of the design as shown and compare the actual change of the "
+                                         "objective with the first-order prediction"));
 
     // Optimize.
     optimizeStart = make(

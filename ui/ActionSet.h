@@ -41,6 +41,7 @@ struct ActionSet {
     QAction* controlNets = nullptr;
     QAction* lattices = nullptr;
     QAction* sensitivity = nullptr;
+    QAction* gradientArrows = nullptr;     // dJ/dB at the lattice points (after a gradient)
     QAction* orientationAxes = nullptr;
     QAction* resetCamera = nullptr;
     QAction* viewFront = nullptr;
@@ -57,6 +58,9 @@ struct ActionSet {
     QAction* flowSolve = nullptr;
     QAction* flowStop = nullptr;
     QAction* flowContinue = nullptr;
+    QAction* computeSensitivities = nullptr;  // the objective's adjoint gradient of the design
+    QAction* cancelSensitivities = nullptr;
+    QAction* confirmPrediction = nullptr;     // a flow solve of the design as shown
     // Optimize.
     QAction* optimizeStart = nullptr;          // a new run (Start Over when a history exists: asks)
     QAction* optimizePause = nullptr;          // after the evaluation being computed

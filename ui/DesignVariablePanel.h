@@ -1,7 +1,12 @@
 #pragma once
 // The design variables of the project as a list: name, a slider and a spin box limited to
 // the variable's bounds (a slider drag is one undo step), a filter, "Reset All", and the
-// switch for the sensitivity arrows of the current variable. GUI thread only; no VTK.
+// switch for the sensitivity arrows of the current variable. After a gradient (Flow > Compute
+// Sensitivities) each row shows dJ/dv as a signed bar (sortable by a click on its header: largest
+// first, smallest first, the variables' order), greyed with a note once the design changed, and
+// below the list the first-order prediction of J for the design as shown with a button that
+// confirms it by a flow solve. GUI thread only; no VTK.
+#include <QString>
 #include <QWidget>
 #include <vector>
 
@@ -31,6 +36,27 @@ class DesignVariablePanel : public QWidget {
     /// Tells the user how the arrows are scaled (empty: hide the note).
     void setSensitivityNote(const QString& text);
 
+    /// dJ/dv per variable (model order) of `objective`, drawn as signed bars scaled to the largest;
+    /// `current`: false greys them (the design changed since), `note` says what they are.
+    void setGradient(const std::vector<double>& dJdv, const QString& objective, bool current, const QString& note);
+    /// No gradient: the column is empty, `note` (may be empty) says why.
+    void clearGradient(const QString& note = {});
+    /// The dJ/dv shown for `var` (NaN when none).
+    double gradient(int var) const;
+    bool gradientCurrent() const { return gradientCurrent_; }
+    /// Row order by dJ/dv: 0 the variables' order, 1 largest first, 2 smallest first.
+    void sortByGradient(int mode);
+    int gradientSort() const { return sortMode_; }
+    /// Variables in the order shown (top to bottom).
+    std::vector<int> shownOrder() const;
+    /// The prediction line (empty: hidden) and whether the confirming solve can start.
+    void setPrediction(const QString& text, bool canConfirm);
+    QString predictionText() const;
+    /// Whether Compute Sensitivities can start now (no computation running).
+    void setCanComputeGradient(bool on);
+
+    static constexpr int kGradientColumn = 3;
+
     QTableWidget* table() const { return table_; }
     QSlider* slider(int var) const;
     QDoubleSpinBox* spinBox(int var) const;
@@ -40,6 +66,10 @@ class DesignVariablePanel : public QWidget {
   signals:
     void currentVariableChanged(int var);
     void sensitivityToggled(bool on);
+    /// The panel's "Compute dJ/dv" button.
+    void computeGradientRequested();
+    /// The panel's "Confirm with a Flow Solve" button.
+    void confirmRequested();
 
   protected:
     bool eventFilter(QObject* watched, QEvent* event) override;
@@ -49,6 +79,7 @@ class DesignVariablePanel : public QWidget {
     void updateValues();
     void applyFilter();
     void sliderMoved(int var, int position);
+    void fillGradientColumn();
 
     Document* document_;
     QLineEdit* filter_ = nullptr;
@@ -57,6 +88,13 @@ class DesignVariablePanel : public QWidget {
     QLabel* note_ = nullptr;
     QLabel* empty_ = nullptr;
     QPushButton* reset_ = nullptr;
+    QLabel* gradientNote_ = nullptr;
+    QPushButton* compute_ = nullptr;
+    QLabel* prediction_ = nullptr;
+    QPushButton* confirm_ = nullptr;
+    std::vector<double> gradient_;
+    bool gradientCurrent_ = false;
+    int sortMode_ = 0;
     std::vector<QSlider*> sliders_;
     std::vector<QDoubleSpinBox*> spins_;
     int gesture_ = 0;        // non-zero while a slider is held down

@@ -13,6 +13,7 @@
 #include <QFontMetrics>
 #include <QImage>
 #include <QLabel>
+#include <QLocale>
 #include <QMenu>
 #include <QMessageBox>
 #include <QMimeData>
@@ -57,6 +58,7 @@
 #include "Resources.h"
 #include "SectionView.h"
 #include "Selection.h"
+#include "SensitivityRunner.h"
 #include "Text.h"
 #include "VtkViewport.h"
 #include "common/Error.h"
@@ -112,6 +114,7 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     scene_ = std::make_unique<PatchScene>(viewport_->renderer());
     lattices_ = std::make_unique<LatticeScene>(viewport_->renderer());
     overlay_ = std::make_unique<OverlayScene>(viewport_->renderer());
+    gradientArrows_ = std::make_unique<OverlayScene>(viewport_->renderer(), std::array<double, 3>{0.10, 0.62, 0.25});
     meshScene_ = std::make_unique<MeshScene>(viewport_->renderer());
     flowScene_ = std::make_unique<FlowScene>(viewport_->renderer());
     optimizationScene_ = std::make_unique<OptimizationScene>(viewport_->renderer());
@@ -122,6 +125,7 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     flow_ = new FlowWorkspace(document_, jobs_, viewport_, flowScene_.get(), this, this);
     optimization_ = new OptimizationWorkspace(document_, jobs_, viewport_, optimizationScene_.get(),
                                               this, this);
+    sensitivities_ = new SensitivityRunner(document_, jobs_, &flow_->runner(), this);
     exports_ = new Exports(
         document_, files_, previewer_, &flow_->runner(), this,
         [this](const QString& path, QString* error) { return saveScreenshot(path, error); },
@@ -141,6 +145,7 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
             findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
     connectActions();
     connectDocument();
+    connectSensitivities();
     if (options_.autosave) {
         autosaver_ = new Autosaver(document_,
                                    options_.autosaveDirectory.isEmpty() ? Autosaver::defaultDirectory()
@@ -165,6 +170,7 @@ MainWindow::~MainWindow() {
     optimizationScene_.reset();
     flowScene_.reset();
     meshScene_.reset();
+    gradientArrows_.reset();
     overlay_.reset();
     lattices_.reset();
     scene_.reset();
@@ -216,7 +222,7 @@ void MainWindow::createDocks() {
     sectionDock->hide();
     plotsDock->hide();
 
-    resizeDocks({treeDock, varDock}, {250, 340}, Qt::Horizontal);
+    resizeDocks({treeDock, varDock}, {250, 380}, Qt::Horizontal);
     resizeDocks({treeDock, propDock}, {200, 420}, Qt::Vertical);
 
     connect(tree_, &ModelTree::geometryVisibilityChanged, this, [this](bool on) {
@@ -248,6 +254,12 @@ void MainWindow::createStatusBar() {
     statusBar()->addPermanentWidget(problemLabel_, 1);
     jobStatus_ = new JobStatusBar(jobs_, statusBar(), this);
     statusBar()->addPermanentWidget(jobStatus_);
+    predictionLabel_ = new QLabel(this);
+    predictionLabel_->setObjectName(QStringLiteral("predictionStatus"));
+    predictionLabel_->setToolTip(tr("First-order change of the objective since the gradient (Flow \u25b8 Compute "
+                                    "Sensitivities): the sum of dJ/dB . \u0394B over the lattice points"));
+    predictionLabel_->hide();
+    statusBar()->addPermanentWidget(predictionLabel_);
     summaryLabel_ = new QLabel(this);
     summaryLabel_->setObjectName(QStringLiteral("summaryLabel"));
     statusBar()->addPermanentWidget(summaryLabel_);
@@ -596,6 +608,102 @@ void MainWindow::updateSensitivity() {
                     : tr("%1 does not move the surface.").arg(name));
 }
 
+// ---- Design sensitivities -------------------------------------------------------------------------
+
+void MainWindow::connectSensitivities() {
+    const ActionSet& a = *actions_;
+    auto show = [this](const QString& text, int timeoutMs) { statusBar()->showMessage(text, timeoutMs); };
+    auto compute = [this, show] {
+        QString error;
+        if (!sensitivities_->start(&error)) show(error, 8000);
+    };
+    auto confirm = [this, show] {
+        QString error;
+        if (!sensitivities_->confirm(&error)) show(error, 8000);
+    };
+    connect(a.computeSensitivities, &QAction::triggered, this, compute);
+    connect(variables_, &DesignVariablePanel::computeGradientRequested, this, compute);
+    connect(a.cancelSensitivities, &QAction::triggered, sensitivities_, &SensitivityRunner::cancel);
+    connect(a.confirmPrediction, &QAction::triggered, this, confirm);
+    connect(variables_, &DesignVariablePanel::confirmRequested, this, confirm);
+    connect(sensitivities_, &SensitivityRunner::message, this, show);
+    connect(sensitivities_, &SensitivityRunner::stateChanged, this, [this] {
+        updateGradient();
+        updateActions();
+    });
+    connect(sensitivities_, &SensitivityRunner::resultChanged, this, [this] {
+        updateGradient();
+        updateActions();
+    });
+    connect(sensitivities_, &SensitivityRunner::outdatedChanged, this, &MainWindow::updateGradient);
+    connect(sensitivities_, &SensitivityRunner::predictionChanged, this, &MainWindow::updatePrediction);
+    connect(&flow_->runner(), &FlowRunner::stateChanged, this, &MainWindow::updatePrediction);
+    connect(document_, &Document::latticesMoved, this, &MainWindow::updateGradientArrows);
+    connect(document_, &Document::structureChanged, this, &MainWindow::updateGradient);
+    connect(a.gradientArrows, &QAction::toggled, this, &MainWindow::updateGradientArrows);
+    connect(a.lattices, &QAction::toggled, this, &MainWindow::updateGradientArrows);
+    connect(tree_, &ModelTree::latticeVisibilityChanged, this, &MainWindow::updateGradientArrows);
+    updateGradient();
+}
+
+void MainWindow::updateGradient() {
+    const auto r = sensitivities_->result();
+    if (!r) {
+        QString note;
+        if (sensitivities_->state() == SensitivityRunner::State::Running)
+            note = tr("Computing the gradient of %1...").arg(QString::fromStdString(sensitivities_->objective().name));
+        else if (sensitivities_->state() == SensitivityRunner::State::Failed)
+            note = tr("No gradient: %1").arg(sensitivities_->reason());
+        variables_->clearGradient(note);
+    } else {
+        const QString name = QString::fromStdString(r->objective.name);
+        const QString sense = r->objective.maximize ? tr("maximized") : tr("minimized");
+        QString note = sensitivities_->outdated()
+                           ? tr("d%1/dv at an earlier design (%1 = %2, %3): the design changed since; compute again "
+                                "for the design as shown.")
+                                 .arg(name, QLocale().toString(r->J, 'g', 5), sense)
+                           : tr("d%1/dv of the design as shown (%1 = %2, %3); green arrows at the lattice points show "
+                                "which way improves it.")
+                                 .arg(name, QLocale().toString(r->J, 'g', 5), sense);
+        if (sensitivities_->state() == SensitivityRunner::State::Running) note += tr(" Computing again...");
+        variables_->setGradient(r->dv, name, !sensitivities_->outdated(), note);
+    }
+    updateGradientArrows();
+    updatePrediction();
+}
+
+void MainWindow::updateGradientArrows() {
+    const auto r = sensitivities_->result();
+    const auto& moved = document_->lattices();
+    if (!r || !actions_->gradientArrows->isChecked() || !actions_->lattices->isChecked() || optimization_->viewShown() ||
+        r->dLattice.size() != moved.size()) {
+        gradientArrows_->clearArrows();
+        viewport_->requestRender();
+        return;
+    }
+    // At the lattice points as shown, towards a better objective.
+    const double sign = r->objective.maximize ? 1.0 : -1.0;
+    std::vector<double> points, vectors;
+    for (std::size_t l = 0; l < moved.size(); ++l) {
+        if (!lattices_->latticeVisible(static_cast<int>(l)) || r->dLattice[l].size() != moved[l].points.size()) continue;
+        points.insert(points.end(), moved[l].points.begin(), moved[l].points.end());
+        for (double g : r->dLattice[l]) vectors.push_back(sign * g);
+    }
+    const auto b = scene_->bounds();
+    const double size = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+    gradientArrows_->setArrows(points, vectors, 0.1 * size);
+    viewport_->requestRender();
+}
+
+void MainWindow::updatePrediction() {
+    const QString text = sensitivities_->predictionText();
+    const bool flowBusy = flow_->runner().running();
+    variables_->setPrediction(text, !flowBusy);
+    predictionLabel_->setText(text);
+    predictionLabel_->setVisible(!text.isEmpty());
+    actions_->confirmPrediction->setEnabled(sensitivities_->result() != nullptr && !flowBusy);
+}
+
 void MainWindow::updateSummary() {
     summaryLabel_->setText(summary());
 }
@@ -645,6 +753,11 @@ void MainWindow::updateActions() {
     a.flowStop->setEnabled(flow.running());
     a.flowContinue->setEnabled(geometry && !flow.running() && flow.canContinue());
     a.exportFlow->setEnabled(flow.result() != nullptr);
+    const bool gradientRunning = sensitivities_->running();
+    a.computeSensitivities->setEnabled(geometry && document_->model() && !gradientRunning);
+    a.cancelSensitivities->setEnabled(gradientRunning);
+    a.confirmPrediction->setEnabled(sensitivities_->result() != nullptr && !flow.running());
+    variables_->setCanComputeGradient(!gradientRunning);
     flow_->panel()->solveButton()->setEnabled(geometry);
     const OptimizationRunner& opt = optimization_->runner();
     const bool optBusy = opt.running() || opt.loading();

@@ -44,6 +44,7 @@ class PatchScene;
 class ProjectFiles;
 class PropertyPanel;
 class Selection;
+class SensitivityRunner;
 class VtkViewport;
 
 class MainWindow : public QMainWindow {
@@ -92,6 +93,9 @@ class MainWindow : public QMainWindow {
     PatchScene& scene() const { return *scene_; }
     LatticeScene& latticeScene() const { return *lattices_; }
     OverlayScene& overlayScene() const { return *overlay_; }
+    /// The arrows dJ/dB at the lattice points (after Flow > Compute Sensitivities).
+    OverlayScene& gradientScene() const { return *gradientArrows_; }
+    SensitivityRunner& sensitivities() const { return *sensitivities_; }
     Document& document() const { return *document_; }
     Selection& selection() const { return *selection_; }
     LatticeEditor& latticeEditor() const { return *editor_; }
@@ -128,6 +132,12 @@ class MainWindow : public QMainWindow {
     void updateDiagnostics();
     void updateLatticeScene();
     void updateSensitivity();
+    /// Flow > Compute Sensitivities: the runner's result in the design variable panel (dJ/dv),
+    /// the 3D view (dJ/dB arrows) and the prediction of the current design's J.
+    void connectSensitivities();
+    void updateGradient();
+    void updateGradientArrows();
+    void updatePrediction();
     void updateActions();
     void onReset();
     void onShapeChanged(const QVector<int>& patches);
@@ -156,6 +166,7 @@ class MainWindow : public QMainWindow {
     std::unique_ptr<PatchScene> scene_;
     std::unique_ptr<LatticeScene> lattices_;
     std::unique_ptr<OverlayScene> overlay_;
+    std::unique_ptr<OverlayScene> gradientArrows_;
     std::unique_ptr<MeshScene> meshScene_;
     std::unique_ptr<FlowScene> flowScene_;
     std::unique_ptr<OptimizationScene> optimizationScene_;
@@ -163,6 +174,8 @@ class MainWindow : public QMainWindow {
     MeshPreviewer* previewer_ = nullptr;
     FlowWorkspace* flow_ = nullptr;
     OptimizationWorkspace* optimization_ = nullptr;
+    SensitivityRunner* sensitivities_ = nullptr;
+    QLabel* predictionLabel_ = nullptr;
     ProjectFiles* files_ = nullptr;
     Exports* exports_ = nullptr;
     bool geometryHiddenForResults_ = false;  // we unchecked Geometry to show a result's wall

@@ -44,7 +44,7 @@ MenuRefs buildMenus(QMainWindow* window, const ActionSet& a) {
     edit->addAction(a.resetVariables);
 
     QMenu* view = bar->addMenu(QObject::tr("&View"));
-    for (QAction* t : {a.surfaces, a.patchEdges, a.controlNets, a.lattices, a.sensitivity, a.orientationAxes})
+    for (QAction* t : {a.surfaces, a.patchEdges, a.controlNets, a.lattices, a.sensitivity, a.gradientArrows, a.orientationAxes})
         view->addAction(t);
     view->addSeparator();
     for (QAction* t : {a.resetCamera, a.viewFront, a.viewSide, a.viewTop}) view->addAction(t);
@@ -68,6 +68,10 @@ MenuRefs buildMenus(QMainWindow* window, const ActionSet& a) {
     menus.flow->addAction(a.flowSolve);
     menus.flow->addAction(a.flowStop);
     menus.flow->addAction(a.flowContinue);
+    menus.flow->addSeparator();
+    menus.flow->addAction(a.computeSensitivities);
+    menus.flow->addAction(a.cancelSensitivities);
+    menus.flow->addAction(a.confirmPrediction);
     menus.flow->addSeparator();
     menus.flow->addAction(a.exportFlow);
     menus.flow->addSeparator();

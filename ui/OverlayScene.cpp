@@ -64,7 +64,7 @@ struct OverlayScene::Impl {
     int arrowCount = 0;
 };
 
-OverlayScene::OverlayScene(vtkRenderer* renderer) : d_(std::make_unique<Impl>()) {
+OverlayScene::OverlayScene(vtkRenderer* renderer, const std::array<double, 3>& arrowColour) : d_(std::make_unique<Impl>()) {
     d_->renderer = renderer;
     d_->failedMapper->ScalarVisibilityOff();
     d_->failed->SetMapper(d_->failedMapper);
@@ -88,7 +88,7 @@ OverlayScene::OverlayScene(vtkRenderer* renderer) : d_(std::make_unique<Impl>())
     d_->arrowMapper->ScalarVisibilityOff();
     d_->arrows->SetMapper(d_->arrowMapper);
     vtkProperty* ap = d_->arrows->GetProperty();
-    ap->SetColor(0.86, 0.08, 0.08);
+    ap->SetColor(arrowColour[0], arrowColour[1], arrowColour[2]);
     ap->SetAmbient(0.25);
     ap->SetDiffuse(0.8);
     d_->arrows->PickableOff();

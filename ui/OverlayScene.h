@@ -4,6 +4,7 @@
 //   sensitivity arrows dS/dv of one design variable at surface points, like the red arrows of
 //                      the paper's Figure 1 (arrow length proportional to |dS/dv|).
 // No VTK type is exposed here. GUI thread only.
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -22,7 +23,8 @@ double sensitivityField(const geometry::PatchSet& shape, const geometry::PatchSe
 
 class OverlayScene {
   public:
-    explicit OverlayScene(vtkRenderer* renderer);
+    /// `arrowColour`: RGB in [0, 1] (red: the paper's dS/dv arrows).
+    explicit OverlayScene(vtkRenderer* renderer, const std::array<double, 3>& arrowColour = {0.86, 0.08, 0.08});
     ~OverlayScene();
     OverlayScene(const OverlayScene&) = delete;
     OverlayScene& operator=(const OverlayScene&) = delete;

@@ -16,6 +16,7 @@ int runMeshPreviewTest(int argc, char** argv, bool canRender);
 int runFlowSolveTest(int argc, char** argv, bool canRender);
 int runPatchSceneTest(int argc, char** argv, bool canRender);
 int runOptimizationWorkspaceTest(int argc, char** argv, bool canRender);
+int runSensitivityTest(int argc, char** argv, bool canRender);
 
 int main(int argc, char** argv) {
     // Flow solves run in the background here too: OpenMP must wait passively (as the
@@ -46,5 +47,6 @@ int main(int argc, char** argv) {
     if (wanted("PatchSceneTest")) failed += runPatchSceneTest(argc, argv, canRender);
     if (wanted("OptimizationWorkspaceTest"))
         failed += runOptimizationWorkspaceTest(argc, argv, canRender);
+    if (wanted("SensitivityTest")) failed += runSensitivityTest(argc, argv, canRender);
     return failed == 0 ? 0 : 1;
 }

@@ -1,0 +1,314 @@
+// Qt Test of Flow > Compute Sensitivities (issue #18, "Design sensitivities where the designer
+// looks") on the blended-wing sample on a small grid (mesh.refine 0.3, 2 increments) with the
+// objective "minimize CD" from the case's optimization section:
+//   - the action runs the design's flow and adjoint as a background job (status bar, cancellable);
+//   - the design variable panel's bars receive dCD/dv equal to study::computeGradient's for the
+//     same design (values and signs), sortable by value; arrows appear at the lattice points;
+//   - moving a slider or dragging a lattice point (preview) shows the first-order change
+//     dJ/dv . dv (dJ/dB . dB) live, the bars grey out, undo makes them current again;
+//   - "Confirm with a Flow Solve" reports the actual change next to the prediction;
+//   - a flow that does not converge is reported as the reason there is no gradient;
+//   - screenshots for people to look at.
+#include <QAction>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPushButton>
+#include <QStatusBar>
+#include <QTableWidget>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QUndoStack>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "ActionSet.h"
+#include "DesignVariablePanel.h"
+#include "Document.h"
+#include "FlowRunner.h"
+#include "FlowWorkspace.h"
+#include "JobRunner.h"
+#include "MainWindow.h"
+#include "OverlayScene.h"
+#include "SensitivityRunner.h"
+#include "UiTestSupport.h"
+#include "io/CaseFile.h"
+#include "io/CaseWriter.h"
+#include "study/CaseEvaluator.h"
+#include "study/GeometryFiles.h"
+#include "study/Gradient.h"
+
+using aero::ui::MainWindow;
+using aero::ui::SensitivityRunner;
+using namespace aero::uitest;
+
+namespace {
+
+constexpr int kRunTimeoutMs = 900000;  // a minute or two on an idle machine; generous on a busy one
+
+}  // namespace
+
+class SensitivityTest : public QObject {
+    Q_OBJECT
+
+  public:
+    explicit SensitivityTest(bool canRender) : canRender_(canRender) {}
+
+  private slots:
+    void initTestCase();
+    void cleanupTestCase();
+    void computeFillsTheBarsWithTheAdjointGradient();
+    void barsSortByValue();
+    void arrowsAtTheLatticePointsPointToABetterObjective();
+    void sliderAndDragShowTheFirstOrderChangeLive();
+    void confirmSolvesTheFlowAndShowsTheActualChange();
+    void aFlowThatDoesNotConvergeSaysWhy();
+
+  private:
+    SensitivityRunner& runner() { return window_->sensitivities(); }
+    aero::ui::DesignVariablePanel& panel() { return window_->designVariables(); }
+    aero::ui::Document& doc() { return window_->document(); }
+
+    bool canRender_;
+    QTemporaryDir dir_;
+    QString project_;
+    std::unique_ptr<MainWindow> window_;
+    aero::study::GradientResult reference_;  // computeGradient of the same design, directly
+};
+
+void SensitivityTest::initTestCase() {
+    if (!canRender_)
+        QSKIP("test_ui needs an X display: DISPLAY is not set (or QT_QPA_PLATFORM is offscreen). "
+              "Run it under xvfb-run -a -s \"-screen 0 1280x800x24\".");
+    QVERIFY(dir_.isValid());
+    aero::io::CaseFile c = aero::io::readCase(std::string(AEROFORM_SAMPLES_DIR) + "/bwb_flow.json");
+    c.mesh.extrusion.refine = 0.3;
+    c.mesh.elasticity.increments = 2;
+    c.optimization.present = true;  // the objective comes from here: minimize CD
+    c.optimization.objective = "CD";
+    c.optimization.maximize = false;
+    c.outputFlowVtk.clear();
+    c.outputResidualCsv.clear();
+    c.outputRestart.clear();
+    c.outputGeometry.clear();
+    project_ = dir_.filePath(QStringLiteral("bwb_small.json"));
+    c.path = project_.toStdString();
+    aero::io::writeCase(c, project_.toStdString());
+
+    // The reference: the same design's gradient through libcore directly.
+    const aero::io::CaseFile read = aero::io::readCase(project_.toStdString());
+    aero::study::CaseEvaluator ev(read, aero::study::loadGeometry(read.geometry));
+    const aero::study::Evaluation e = ev.evaluate(ev.caseValues());
+    QVERIFY2(e.ok(), e.message.c_str());
+    aero::study::GradientOptions o;
+    o.functionals = {"CD"};
+    reference_ = aero::study::computeGradient(ev, e, o);
+    QVERIFY2(reference_.ok, reference_.message.c_str());
+
+    MainWindow::Options options;
+    options.autosave = false;
+    options.recentFiles = false;
+    window_ = std::make_unique<MainWindow>(options);
+    window_->resize(1280, 800);
+    window_->show();
+    QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+    QString error;
+    QVERIFY2(window_->loadFile(project_, &error), qPrintable(error));
+    QTRY_VERIFY_WITH_TIMEOUT(window_->viewport()->renderedFrames() > 0, 10000);
+}
+
+void SensitivityTest::cleanupTestCase() {
+    window_.reset();
+}
+
+void SensitivityTest::computeFillsTheBarsWithTheAdjointGradient() {
+    const aero::ui::ActionSet& a = window_->actions();
+    QCOMPARE(runner().state(), SensitivityRunner::State::None);
+    QVERIFY(a.computeSensitivities->isEnabled());
+    QVERIFY(!a.computeSensitivities->toolTip().isEmpty());
+    QVERIFY(!a.cancelSensitivities->isEnabled());
+    QVERIFY(std::isnan(panel().gradient(0)));
+    QCOMPARE(runner().objective().name, std::string("CD"));
+    QVERIFY(!runner().objective().maximize);
+
+    a.computeSensitivities->trigger();
+    QCOMPARE(runner().state(), SensitivityRunner::State::Running);
+    QVERIFY(window_->jobs().running(QStringLiteral("sensitivities")) != nullptr);
+    QVERIFY(a.cancelSensitivities->isEnabled());
+    QVERIFY(!a.computeSensitivities->isEnabled());
+    // One at a time.
+    QString error;
+    QVERIFY(!runner().start(&error));
+    QVERIFY(!error.isEmpty());
+    QTRY_VERIFY_WITH_TIMEOUT(!runner().running(), kRunTimeoutMs);
+    QCOMPARE(runner().state(), SensitivityRunner::State::Done);
+    QVERIFY(runner().result() != nullptr);
+    QVERIFY(!runner().outdated());
+    QVERIFY(panel().gradientCurrent());
+
+    // The bars: the same dCD/dv as libcore's, value and sign.
+    const std::vector<double>& ref = reference_.functionals.front().dv;
+    QCOMPARE(static_cast<int>(ref.size()), panel().table()->rowCount());
+    double largest = 0;
+    for (double g : ref) largest = std::max(largest, std::abs(g));
+    QVERIFY(largest > 0);
+    int signs = 0;
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+        const double shown = panel().gradient(static_cast<int>(i));
+        QVERIFY2(std::abs(shown - ref[i]) <= 1e-6 * largest,
+                 qPrintable(QStringLiteral("variable %1: %2 shown, %3 by computeGradient").arg(i).arg(shown).arg(ref[i])));
+        if (std::abs(ref[i]) > 1e-3 * largest) {
+            QCOMPARE(shown > 0, ref[i] > 0);
+            ++signs;
+        }
+    }
+    QVERIFY(signs > 0);
+    std::printf("sensitivities: CD = %.6g, %zu variables, largest |dCD/dv| %.3g, flow %.1f s, gradient %.1f s\n",
+                runner().result()->J, ref.size(), largest, runner().result()->secondsFlow,
+                runner().result()->secondsGradient);
+    QCOMPARE(panel().table()->horizontalHeaderItem(aero::ui::DesignVariablePanel::kGradientColumn)->text(),
+             QStringLiteral("dCD/dv"));
+    QVERIFY(window_->findChild<QLabel*>(QStringLiteral("gradientNote"))->text().contains(QStringLiteral("minimized")));
+    QVERIFY(panel().predictionText().contains(QStringLiteral("\u0394CD = +0")));  // nothing moved yet
+}
+
+void SensitivityTest::barsSortByValue() {
+    QHeaderView* header = panel().table()->horizontalHeader();
+    const int x = header->sectionViewportPosition(aero::ui::DesignVariablePanel::kGradientColumn) + 10;
+    QTest::mouseClick(header->viewport(), Qt::LeftButton, {}, QPoint(x, header->height() / 2));
+    QCOMPARE(panel().gradientSort(), 1);
+    std::vector<int> order = panel().shownOrder();
+    for (std::size_t k = 1; k < order.size(); ++k) QVERIFY(panel().gradient(order[k - 1]) >= panel().gradient(order[k]));
+    QTest::mouseClick(header->viewport(), Qt::LeftButton, {}, QPoint(x, header->height() / 2));
+    QCOMPARE(panel().gradientSort(), 2);
+    order = panel().shownOrder();
+    for (std::size_t k = 1; k < order.size(); ++k) QVERIFY(panel().gradient(order[k - 1]) <= panel().gradient(order[k]));
+    // The rows stay the variables: moving the slider of the row shown first moves its variable.
+    const int first = order.front();
+    QCOMPARE(panel().table()->verticalHeader()->visualIndex(first), 0);
+    window_->designVariables().setCurrentVariable(first);
+    QCOMPARE(panel().currentVariable(), first);
+    QVERIFY(panel().grab().save(kScreenshotDir + QStringLiteral("/sensitivity_bars.png")));
+    QTest::mouseClick(header->viewport(), Qt::LeftButton, {}, QPoint(x, header->height() / 2));
+    QCOMPARE(panel().gradientSort(), 0);
+    order = panel().shownOrder();
+    for (std::size_t k = 0; k < order.size(); ++k) QCOMPARE(order[k], static_cast<int>(k));
+}
+
+void SensitivityTest::arrowsAtTheLatticePointsPointToABetterObjective() {
+    const aero::ui::ActionSet& a = window_->actions();
+    QVERIFY(a.gradientArrows->isChecked());
+    const auto r = runner().result();
+    QCOMPARE(r->dLattice.size(), doc().lattices().size());
+    int moving = 0;
+    double largest = 0;
+    for (const auto& g : r->dLattice)
+        for (std::size_t k = 0; k + 2 < g.size(); k += 3) largest = std::max(largest, std::hypot(g[k], g[k + 1], g[k + 2]));
+    for (const auto& g : r->dLattice)
+        for (std::size_t k = 0; k + 2 < g.size(); k += 3) moving += std::hypot(g[k], g[k + 1], g[k + 2]) >= 1e-3 * largest;
+    QVERIFY(moving > 0);
+    QCOMPARE(window_->gradientScene().arrowCount(), moving);
+    QCOMPARE(runner().improvingSign(), -1.0);  // CD is minimized: the arrows point along -dCD/dB
+    window_->viewport()->requestRender();
+    QTest::qWait(300);
+    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir + QStringLiteral("/sensitivity_arrows.png")));
+    QVERIFY(window_->grab().save(kScreenshotDir + QStringLiteral("/sensitivity_window.png")));
+    a.gradientArrows->setChecked(false);
+    QCOMPARE(window_->gradientScene().arrowCount(), 0);
+    a.gradientArrows->setChecked(true);
+    QCOMPARE(window_->gradientScene().arrowCount(), moving);
+}
+
+void SensitivityTest::sliderAndDragShowTheFirstOrderChangeLive() {
+    const auto r = runner().result();
+    // The variable with the largest |dCD/dv|, moved by 1% of its range.
+    int var = 0;
+    for (int i = 1; i < static_cast<int>(r->dv.size()); ++i)
+        if (std::abs(r->dv[static_cast<std::size_t>(i)]) > std::abs(r->dv[static_cast<std::size_t>(var)])) var = i;
+    const auto& v = doc().model()->design().variables()[static_cast<std::size_t>(var)];
+    const double step = 0.01 * (v.upper - v.lower);
+    const double before = doc().values()[static_cast<std::size_t>(var)];
+    // The step that decreases CD (against the gradient), within the bounds.
+    const double to = std::clamp(before - (r->dv[static_cast<std::size_t>(var)] > 0 ? step : -step), v.lower, v.upper);
+    doc().setDesignValue(var, to);
+    const double dv = doc().values()[static_cast<std::size_t>(var)] - before;
+    QVERIFY(dv != 0);
+    QVERIFY(runner().outdated());
+    QVERIFY(!panel().gradientCurrent());
+    QVERIFY(window_->findChild<QLabel*>(QStringLiteral("gradientNote"))->text().contains(QStringLiteral("earlier design")));
+    const std::optional<double> predicted = runner().prediction();
+    QVERIFY(predicted.has_value());
+    const double expected = r->dv[static_cast<std::size_t>(var)] * dv;
+    std::printf("slider %s by %.4g: predicted dCD %.6e, dCD/dv * dv %.6e\n", v.name.c_str(), dv, *predicted, expected);
+    QVERIFY(std::abs(*predicted - expected) <= 1e-9 * std::abs(expected));
+    QVERIFY(*predicted < 0);
+    QVERIFY(panel().predictionText().contains(QStringLiteral("Predicted \u0394CD = -")));
+    auto* status = window_->findChild<QLabel*>(QStringLiteral("predictionStatus"));
+    QVERIFY(status->isVisible());
+    QCOMPARE(status->text(), panel().predictionText());
+
+    // A lattice drag's preview: dJ/dB . dB, live (on top of the slider move).
+    const int point = 5;
+    const std::array<double, 3> delta{0.0, 0.0, 0.02};
+    doc().previewLatticeMove(0, {point}, delta);
+    const std::optional<double> dragged = runner().prediction();
+    QVERIFY(dragged.has_value());
+    const double dragExpected = expected + r->dLattice[0][3 * point + 2] * delta[2];
+    QVERIFY(std::abs(*dragged - dragExpected) <= 1e-9 * (std::abs(expected) + std::abs(dragExpected)));
+    QCOMPARE(status->text(), runner().predictionText());
+    doc().endPreview();
+    QVERIFY(std::abs(*runner().prediction() - expected) <= 1e-9 * std::abs(expected));
+
+    // Undo: the gradient's design again, the bars current.
+    doc().undoStack()->undo();
+    QVERIFY(!runner().outdated());
+    QVERIFY(panel().gradientCurrent());
+    QCOMPARE(*runner().prediction(), 0.0);
+    doc().undoStack()->redo();
+    QVERIFY(runner().outdated());
+}
+
+void SensitivityTest::confirmSolvesTheFlowAndShowsTheActualChange() {
+    const aero::ui::ActionSet& a = window_->actions();
+    const double predicted = *runner().prediction();
+    QVERIFY(a.confirmPrediction->isEnabled());
+    auto* button = window_->findChild<QPushButton*>(QStringLiteral("confirmPrediction"));
+    QVERIFY(button && button->isVisible() && button->isEnabled());
+    QTest::mouseClick(button, Qt::LeftButton);
+    QVERIFY(window_->flow().runner().running());
+    QVERIFY(panel().predictionText().contains(QStringLiteral("confirming")));
+    QTRY_VERIFY_WITH_TIMEOUT(!window_->flow().runner().running(), kRunTimeoutMs);
+    QCOMPARE(window_->flow().runner().state(), aero::ui::FlowRunner::State::Converged);
+    QTRY_VERIFY(runner().confirmedChange().has_value());
+    const double actual = *runner().confirmedChange();
+    std::printf("confirmed: predicted dCD %.6e, flow solve %.6e\n", predicted, actual);
+    QVERIFY(panel().predictionText().contains(QStringLiteral("flow solve: \u0394CD")));
+    // A step of 1% of the range: the first-order prediction within a fifth of the change.
+    QVERIFY(actual < 0);
+    QVERIFY(std::abs(actual - predicted) < 0.2 * std::abs(actual));
+    QVERIFY(window_->grab().save(kScreenshotDir + QStringLiteral("/sensitivity_confirmed.png")));
+    // Moving on forgets the confirmation (it was for another design).
+    doc().undoStack()->undo();
+    QVERIFY(!runner().confirmedChange().has_value());
+}
+
+void SensitivityTest::aFlowThatDoesNotConvergeSaysWhy() {
+    doc().setOption(aero::ui::Document::Section::Flow, "max_iterations", aero::io::OptionValue(2L));
+    QVERIFY(runner().result() == nullptr);  // the flow options changed: the gradient no longer applies
+    QVERIFY(std::isnan(panel().gradient(0)));
+    QVERIFY(runner().prediction() == std::nullopt);
+    QVERIFY(!window_->findChild<QLabel*>(QStringLiteral("predictionStatus"))->isVisible());
+    window_->actions().computeSensitivities->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(!runner().running(), kRunTimeoutMs);
+    QCOMPARE(runner().state(), SensitivityRunner::State::Failed);
+    QVERIFY2(runner().reason().contains(QStringLiteral("did not converge")), qPrintable(runner().reason()));
+    QVERIFY(window_->findChild<QLabel*>(QStringLiteral("gradientNote"))->text().contains(QStringLiteral("No gradient")));
+    doc().undoStack()->undo();
+}
+
+int runSensitivityTest(int argc, char** argv, bool canRender) {
+    SensitivityTest test(canRender);
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "SensitivityTest.moc"
