@@ -93,6 +93,13 @@ ActionSet::ActionSet(QObject* owner, QUndoStack* stack) {
                                QObject::tr("Arrows at the lattice points in the direction that improves the objective "
                                            "(dJ/dB, signed by the objective's sense; the longest drawn at a tenth of "
                                            "the model), after Flow \u25b8 Compute Sensitivities"));
+    surfaceSensitivity =
+        checkable(QObject::tr("Surface Sensitivity dJ/dA\u00b7n"), "actionSurfaceSensitivity", false,
+                  QObject::tr("Colours the wall by the objective's gradient with respect to the geometry's control "
+                              "points (dJ/dA, after Flow \u25b8 Compute Sensitivities), interpolated on the surface "
+                              "with the patches' own basis and projected on the outward normal: red where pushing the "
+                              "wall out increases J, blue where it decreases J. Each control point's share of the "
+                              "wall, not a derivative per unit area"));
     orientationAxes = checkable(QObject::tr("Orientation A&xes"), "actionOrientationAxes", true);
     resetCamera = make(QObject::tr("&Reset Camera"), "actionResetCamera");
     resetCamera->setShortcut(QKeySequence(QObject::tr("Ctrl+R")));

@@ -42,6 +42,7 @@ struct ActionSet {
     QAction* lattices = nullptr;
     QAction* sensitivity = nullptr;
     QAction* gradientArrows = nullptr;     // dJ/dB at the lattice points (after a gradient)
+    QAction* surfaceSensitivity = nullptr; // dJ/dA . n as a colour map on the wall (after a gradient)
     QAction* orientationAxes = nullptr;
     QAction* resetCamera = nullptr;
     QAction* viewFront = nullptr;

@@ -59,9 +59,11 @@
 #include "SectionView.h"
 #include "Selection.h"
 #include "SensitivityRunner.h"
+#include "SurfaceFieldScene.h"
 #include "Text.h"
 #include "VtkViewport.h"
 #include "common/Error.h"
+#include "ffd/Embedding.h"
 #include "io/CaseFile.h"
 
 namespace aero::ui {
@@ -115,6 +117,7 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
     lattices_ = std::make_unique<LatticeScene>(viewport_->renderer());
     overlay_ = std::make_unique<OverlayScene>(viewport_->renderer());
     gradientArrows_ = std::make_unique<OverlayScene>(viewport_->renderer(), std::array<double, 3>{0.10, 0.62, 0.25});
+    surfaceField_ = std::make_unique<SurfaceFieldScene>(viewport_->renderer());
     meshScene_ = std::make_unique<MeshScene>(viewport_->renderer());
     flowScene_ = std::make_unique<FlowScene>(viewport_->renderer());
     optimizationScene_ = std::make_unique<OptimizationScene>(viewport_->renderer());
@@ -170,6 +173,7 @@ MainWindow::~MainWindow() {
     optimizationScene_.reset();
     flowScene_.reset();
     meshScene_.reset();
+    surfaceField_.reset();
     gradientArrows_.reset();
     overlay_.reset();
     lattices_.reset();
@@ -641,6 +645,12 @@ void MainWindow::connectSensitivities() {
     connect(document_, &Document::latticesMoved, this, &MainWindow::updateGradientArrows);
     connect(document_, &Document::structureChanged, this, &MainWindow::updateGradient);
     connect(a.gradientArrows, &QAction::toggled, this, &MainWindow::updateGradientArrows);
+    connect(a.surfaceSensitivity, &QAction::toggled, this, &MainWindow::updateSurfaceSensitivity);
+    connect(document_, &Document::shapeChanged, this, [this] {
+        if (surfaceField_->shown()) updateSurfaceSensitivity();
+    });
+    connect(tree_, &ModelTree::patchVisibilityChanged, this, &MainWindow::updateSurfaceSensitivity);
+    connect(optimization_, &OptimizationWorkspace::viewShownChanged, this, &MainWindow::updateSurfaceSensitivity);
     connect(a.lattices, &QAction::toggled, this, &MainWindow::updateGradientArrows);
     connect(tree_, &ModelTree::latticeVisibilityChanged, this, &MainWindow::updateGradientArrows);
     updateGradient();
@@ -669,7 +679,40 @@ void MainWindow::updateGradient() {
         variables_->setGradient(r->dv, name, !sensitivities_->outdated(), note);
     }
     updateGradientArrows();
+    updateSurfaceSensitivity();
     updatePrediction();
+}
+
+void MainWindow::updateSurfaceSensitivity() {
+    const auto r = sensitivities_->result();
+    const ffd::FfdModel* model = document_->model();
+    if (!r || !model || !actions_->surfaceSensitivity->isChecked() || optimization_->viewShown() ||
+        r->dUnique.size() != 3 * static_cast<std::size_t>(model->index().uniqueCount()) ||
+        document_->baseline().size() != scene_->patchCount()) {
+        surfaceField_->clear();
+        viewport_->requestRender();
+        return;
+    }
+    // dJ/dA as the control points of the baseline's nets (knots and weights), sampled where the
+    // wall is drawn, along the drawn wall's outward normals.
+    geometry::PatchSet nets = document_->baseline();
+    ffd::scatter(model->index(), r->dUnique, nets);
+    const auto b = scene_->bounds();
+    const std::array<double, 3> centre{(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2};
+    std::vector<SurfaceFieldScene::Piece> pieces;
+    for (int p = 0; p < scene_->patchCount(); ++p) {
+        if (!scene_->patchVisible(p)) continue;
+        PatchScene::SurfaceMesh mesh = scene_->surfaceMesh(p);
+        SurfaceFieldScene::Piece piece;
+        const std::vector<double> normals = outwardNormals(mesh.points, mesh.triangles, centre);
+        piece.values = normalSensitivity(nets.patches[static_cast<std::size_t>(p)], mesh.uv, normals);
+        piece.points = std::move(mesh.points);
+        piece.triangles = std::move(mesh.triangles);
+        pieces.push_back(std::move(piece));
+    }
+    const std::string name = r->objective.name;
+    surfaceField_->setField(pieces, "d" + name + "/dA \u00b7 n\n(n outward)");
+    viewport_->requestRender();
 }
 
 void MainWindow::updateGradientArrows() {

@@ -45,6 +45,7 @@ class ProjectFiles;
 class PropertyPanel;
 class Selection;
 class SensitivityRunner;
+class SurfaceFieldScene;
 class VtkViewport;
 
 class MainWindow : public QMainWindow {
@@ -96,6 +97,8 @@ class MainWindow : public QMainWindow {
     /// The arrows dJ/dB at the lattice points (after Flow > Compute Sensitivities).
     OverlayScene& gradientScene() const { return *gradientArrows_; }
     SensitivityRunner& sensitivities() const { return *sensitivities_; }
+    /// The surface sensitivity dJ/dA . n on the wall (View > Surface Sensitivity).
+    SurfaceFieldScene& surfaceSensitivityScene() const { return *surfaceField_; }
     Document& document() const { return *document_; }
     Selection& selection() const { return *selection_; }
     LatticeEditor& latticeEditor() const { return *editor_; }
@@ -138,6 +141,7 @@ class MainWindow : public QMainWindow {
     void updateGradient();
     void updateGradientArrows();
     void updatePrediction();
+    void updateSurfaceSensitivity();
     void updateActions();
     void onReset();
     void onShapeChanged(const QVector<int>& patches);
@@ -167,6 +171,7 @@ class MainWindow : public QMainWindow {
     std::unique_ptr<LatticeScene> lattices_;
     std::unique_ptr<OverlayScene> overlay_;
     std::unique_ptr<OverlayScene> gradientArrows_;
+    std::unique_ptr<SurfaceFieldScene> surfaceField_;
     std::unique_ptr<MeshScene> meshScene_;
     std::unique_ptr<FlowScene> flowScene_;
     std::unique_ptr<OptimizationScene> optimizationScene_;

@@ -44,7 +44,8 @@ MenuRefs buildMenus(QMainWindow* window, const ActionSet& a) {
     edit->addAction(a.resetVariables);
 
     QMenu* view = bar->addMenu(QObject::tr("&View"));
-    for (QAction* t : {a.surfaces, a.patchEdges, a.controlNets, a.lattices, a.sensitivity, a.gradientArrows, a.orientationAxes})
+    for (QAction* t : {a.surfaces, a.patchEdges, a.controlNets, a.lattices, a.sensitivity, a.gradientArrows, a.surfaceSensitivity,
+                       a.orientationAxes})
         view->addAction(t);
     view->addSeparator();
     for (QAction* t : {a.resetCamera, a.viewFront, a.viewSide, a.viewTop}) view->addAction(t);

@@ -4,6 +4,7 @@
 //   - the action runs the design's flow and adjoint as a background job (status bar, cancellable);
 //   - the design variable panel's bars receive dCD/dv equal to study::computeGradient's for the
 //     same design (values and signs), sortable by value; arrows appear at the lattice points;
+//   - the surface sensitivity dCD/dA . n colours the wall (and follows the shape);
 //   - moving a slider or dragging a lattice point (preview) shows the first-order change
 //     dJ/dv . dv (dJ/dB . dB) live, the bars grey out, undo makes them current again;
 //   - "Confirm with a Flow Solve" reports the actual change next to the prediction;
@@ -31,6 +32,7 @@
 #include "MainWindow.h"
 #include "OverlayScene.h"
 #include "SensitivityRunner.h"
+#include "SurfaceFieldScene.h"
 #include "UiTestSupport.h"
 #include "io/CaseFile.h"
 #include "io/CaseWriter.h"
@@ -60,6 +62,7 @@ class SensitivityTest : public QObject {
     void computeFillsTheBarsWithTheAdjointGradient();
     void barsSortByValue();
     void arrowsAtTheLatticePointsPointToABetterObjective();
+    void surfaceSensitivityColoursTheWall();
     void sliderAndDragShowTheFirstOrderChangeLive();
     void confirmSolvesTheFlowAndShowsTheActualChange();
     void aFlowThatDoesNotConvergeSaysWhy();
@@ -217,6 +220,30 @@ void SensitivityTest::arrowsAtTheLatticePointsPointToABetterObjective() {
     QCOMPARE(window_->gradientScene().arrowCount(), 0);
     a.gradientArrows->setChecked(true);
     QCOMPARE(window_->gradientScene().arrowCount(), moving);
+}
+
+void SensitivityTest::surfaceSensitivityColoursTheWall() {
+    const aero::ui::ActionSet& a = window_->actions();
+    aero::ui::SurfaceFieldScene& field = window_->surfaceSensitivityScene();
+    QVERIFY(!a.surfaceSensitivity->isChecked());
+    QVERIFY(!field.shown());
+    a.surfaceSensitivity->setChecked(true);
+    QVERIFY(field.shown());
+    QVERIFY(field.pointCount() > 1000);
+    const auto range = field.range();
+    QVERIFY(range[1] > 0);
+    QCOMPARE(range[0], -range[1]);
+    QVERIFY(QString::fromStdString(field.title()).startsWith(QStringLiteral("dCD/dA")));
+    // It follows the shape: a slider move re-samples it on the moved wall; undo brings it back.
+    doc().setDesignValue(0, doc().values()[0] + 0.05);
+    QVERIFY(field.shown());
+    doc().undoStack()->undo();
+    QCOMPARE(field.range()[1], range[1]);
+    window_->viewport()->requestRender();
+    QTest::qWait(300);
+    QVERIFY(window_->viewport()->grabImage().save(kScreenshotDir + QStringLiteral("/sensitivity_surface.png")));
+    a.surfaceSensitivity->setChecked(false);
+    QVERIFY(!field.shown());
 }
 
 void SensitivityTest::sliderAndDragShowTheFirstOrderChangeLive() {
