@@ -2,6 +2,7 @@
 
 #include <QApplication>
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -155,11 +156,20 @@ DesignVariablePanel::DesignVariablePanel(Document* document, QWidget* parent) : 
     gradientNote_->setObjectName(QStringLiteral("gradientNote"));
     gradientNote_->setWordWrap(true);
     gradientRow->addWidget(gradientNote_, 1);
+    auto* computeColumn = new QVBoxLayout;
+    objective_ = new QComboBox(this);
+    objective_->setObjectName(QStringLiteral("gradientObjective"));
+    objective_->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    objective_->setToolTip(tr("The objective J to differentiate: the case's optimization objective when it has one, "
+                              "or a force coefficient"));
+    computeColumn->addWidget(objective_);
     compute_ = new QPushButton(tr("Compute dJ/dv"), this);
     compute_->setObjectName(QStringLiteral("computeGradient"));
     compute_->setToolTip(tr("Solve the flow of the design as shown and its adjoint: dJ/dv of the objective for every "
                             "variable, dJ/dB at the lattice points (Flow \u25b8 Compute Sensitivities)"));
-    gradientRow->addWidget(compute_, 0, Qt::AlignTop);
+    computeColumn->addWidget(compute_);
+    computeColumn->addStretch(1);
+    gradientRow->addLayout(computeColumn);
     layout->addLayout(gradientRow);
     auto* predictionRow = new QHBoxLayout;
     prediction_ = new QLabel(this);
@@ -179,6 +189,7 @@ DesignVariablePanel::DesignVariablePanel(Document* document, QWidget* parent) : 
     setPrediction({}, false);
     connect(compute_, &QPushButton::clicked, this, &DesignVariablePanel::computeGradientRequested);
     connect(confirm_, &QPushButton::clicked, this, &DesignVariablePanel::confirmRequested);
+    connect(objective_, &QComboBox::activated, this, &DesignVariablePanel::objectiveChosen);
 
     connect(filter_, &QLineEdit::textChanged, this, &DesignVariablePanel::applyFilter);
     connect(reset_, &QPushButton::clicked, document_, &Document::resetDesignValues);
@@ -277,6 +288,7 @@ void DesignVariablePanel::rebuild() {
     table_->setVisible(n > 0);
     filter_->setVisible(n > 0);
     compute_->setVisible(n > 0);
+    objective_->setVisible(n > 0);
     reset_->setVisible(n > 0);
     sensitivity_->setVisible(n > 0);
     empty_->setVisible(n == 0);
@@ -442,6 +454,14 @@ QString DesignVariablePanel::predictionText() const {
 
 void DesignVariablePanel::setCanComputeGradient(bool on) {
     compute_->setEnabled(on);
+    objective_->setEnabled(on);
+}
+
+void DesignVariablePanel::setObjectiveChoices(const QStringList& items, int current) {
+    const QSignalBlocker block(objective_);
+    objective_->clear();
+    objective_->addItems(items);
+    objective_->setCurrentIndex(current);
 }
 
 }  // namespace aero::ui

@@ -11,6 +11,7 @@
 #include <vector>
 
 class QCheckBox;
+class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
@@ -54,6 +55,10 @@ class DesignVariablePanel : public QWidget {
     QString predictionText() const;
     /// Whether Compute Sensitivities can start now (no computation running).
     void setCanComputeGradient(bool on);
+    /// The objectives to choose from for the gradient (e.g. the case's, CL/CD, CL, CD) and the
+    /// chosen one; no signal.
+    void setObjectiveChoices(const QStringList& items, int current);
+    QComboBox* objectiveBox() const { return objective_; }
 
     static constexpr int kGradientColumn = 3;
 
@@ -70,6 +75,8 @@ class DesignVariablePanel : public QWidget {
     void computeGradientRequested();
     /// The panel's "Confirm with a Flow Solve" button.
     void confirmRequested();
+    /// The user chose objective `index` of setObjectiveChoices's items.
+    void objectiveChosen(int index);
 
   protected:
     bool eventFilter(QObject* watched, QEvent* event) override;
@@ -90,6 +97,7 @@ class DesignVariablePanel : public QWidget {
     QPushButton* reset_ = nullptr;
     QLabel* gradientNote_ = nullptr;
     QPushButton* compute_ = nullptr;
+    QComboBox* objective_ = nullptr;
     QLabel* prediction_ = nullptr;
     QPushButton* confirm_ = nullptr;
     std::vector<double> gradient_;

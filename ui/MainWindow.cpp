@@ -645,6 +645,26 @@ void MainWindow::connectSensitivities() {
     connect(document_, &Document::latticesMoved, this, &MainWindow::updateGradientArrows);
     connect(document_, &Document::structureChanged, this, &MainWindow::updateGradient);
     connect(a.gradientArrows, &QAction::toggled, this, &MainWindow::updateGradientArrows);
+    // The objective: the case's optimization objective when it has one, or a force coefficient.
+    auto fillObjectives = [this] {
+        const io::CaseFile& c = document_->caseFile();
+        QStringList items;
+        if (c.optimization.present)
+            items << tr("Case: %1 %2").arg(c.optimization.maximize ? tr("maximize") : tr("minimize"),
+                                           QString::fromStdString(c.optimization.objective));
+        items << tr("Maximize CL/CD") << tr("Maximize CL") << tr("Minimize CD");
+        sensitivities_->setObjective(std::nullopt);  // a new project, or its objective changed
+        variables_->setObjectiveChoices(items, 0);
+    };
+    connect(document_, &Document::reset, this, fillObjectives);
+    connect(document_, &Document::optimizationOptionsChanged, this, fillObjectives);
+    connect(variables_, &DesignVariablePanel::objectiveChosen, this, [this](int index) {
+        const int fixed = index - (document_->caseFile().optimization.present ? 1 : 0);
+        static const Objective kFixed[] = {{"CL/CD", true}, {"CL", true}, {"CD", false}};
+        sensitivities_->setObjective(fixed >= 0 && fixed < 3 ? std::optional<Objective>(kFixed[fixed]) : std::nullopt);
+        updateGradient();
+    });
+    fillObjectives();
     connect(a.surfaceSensitivity, &QAction::toggled, this, &MainWindow::updateSurfaceSensitivity);
     connect(document_, &Document::shapeChanged, this, [this] {
         if (surfaceField_->shown()) updateSurfaceSensitivity();

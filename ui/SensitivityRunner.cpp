@@ -46,7 +46,14 @@ SensitivityRunner::SensitivityRunner(Document* document, JobRunner* jobs, FlowRu
 SensitivityRunner::~SensitivityRunner() = default;
 
 Objective SensitivityRunner::objective() const {
-    return caseObjective(document_->caseFile());
+    return chosen_ ? *chosen_ : caseObjective(document_->caseFile());
+}
+
+void SensitivityRunner::setObjective(std::optional<Objective> chosen) {
+    const Objective before = objective();
+    chosen_ = std::move(chosen);
+    const Objective now = objective();
+    if (now.name != before.name || now.maximize != before.maximize) drop();
 }
 
 double SensitivityRunner::improvingSign() const {

@@ -50,8 +50,11 @@ class SensitivityRunner : public QObject {
     std::shared_ptr<const SensitivityResult> result() const { return result_; }
     /// The design changed since the result was computed.
     bool outdated() const { return outdated_; }
-    /// The objective the next run differentiates (the case's; see caseObjective).
+    /// The objective the next run differentiates: the chosen one, else the case's (caseObjective).
     Objective objective() const;
+    /// Chooses the objective (nullopt: the case's). A different choice drops the result.
+    void setObjective(std::optional<Objective> chosen);
+    std::optional<Objective> chosenObjective() const { return chosen_; }
     /// +1 when the objective is maximized, -1 when minimized (the direction that improves it).
     double improvingSign() const;
 
@@ -98,6 +101,7 @@ class SensitivityRunner : public QObject {
     std::vector<ffd::Lattice> confirmedLattices_;  // the design the confirming solve was for
     quint64 generation_ = 0;
     quint64 runGeneration_ = 0;
+    std::optional<Objective> chosen_;
 };
 
 }  // namespace aero::ui

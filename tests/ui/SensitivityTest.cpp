@@ -9,10 +9,11 @@
 //   - moving a slider or dragging a lattice point (preview) shows the first-order change
 //     dJ/dv . dv (dJ/dB . dB) live, the bars grey out, undo makes them current again;
 //   - "Confirm with a Flow Solve" reports the actual change next to the prediction;
-//   - Cancel stops a computation and keeps the previous gradient;
+//   - Cancel stops a computation and keeps the previous gradient; the objective can be chosen;
 //   - a flow that does not converge is reported as the reason there is no gradient;
 //   - screenshots for people to look at.
 #include <QAction>
+#include <QComboBox>
 #include <QHeaderView>
 #include <QLabel>
 #include <QPushButton>
@@ -70,6 +71,7 @@ class SensitivityTest : public QObject {
     void sliderAndDragShowTheFirstOrderChangeLive();
     void confirmSolvesTheFlowAndShowsTheActualChange();
     void cancelKeepsThePreviousGradient();
+    void objectiveCanBeChosen();
     void aFlowThatDoesNotConvergeSaysWhy();
 
   private:
@@ -349,6 +351,23 @@ void SensitivityTest::cancelKeepsThePreviousGradient() {
     QCOMPARE(runner().reason(), QStringLiteral("cancelled"));
     QCOMPARE(runner().result(), before);
     QVERIFY(a.computeSensitivities->isEnabled());
+}
+
+void SensitivityTest::objectiveCanBeChosen() {
+    QComboBox* box = panel().objectiveBox();
+    QCOMPARE(box->count(), 4);  // the case's, then CL/CD, CL, CD
+    QCOMPARE(box->itemText(0), QStringLiteral("Case: minimize CD"));
+    QVERIFY(runner().result() != nullptr);
+    box->setCurrentIndex(1);
+    emit box->activated(1);
+    QCOMPARE(runner().objective().name, std::string("CL/CD"));
+    QVERIFY(runner().objective().maximize);
+    QVERIFY(runner().result() == nullptr);  // the gradient was of another objective
+    QVERIFY(std::isnan(panel().gradient(0)));
+    box->setCurrentIndex(0);
+    emit box->activated(0);
+    QCOMPARE(runner().objective().name, std::string("CD"));
+    QVERIFY(!runner().objective().maximize);
 }
 
 void SensitivityTest::aFlowThatDoesNotConvergeSaysWhy() {
