@@ -6,7 +6,7 @@
 //   - the design variable panel's bars receive dCD/dv equal to study::computeGradient's for the
 //     same design (values and signs), sortable by value; arrows appear at the lattice points;
 //   - the surface sensitivity dCD/dA . n colours the wall (and follows the shape);
-//   - moving a slider or dragging a lattice point (preview) shows the first-order change
+//   - moving a slider or dragging a lattice point (with the mouse, mid-drag) shows the first-order change
 //     dJ/dv . dv (dJ/dB . dB) live, the bars grey out, undo makes them current again;
 //   - "Confirm with a Flow Solve" reports the actual change next to the prediction;
 //   - Cancel stops a computation and keeps the previous gradient; the objective can be chosen;
@@ -33,6 +33,7 @@
 #include "FlowRunner.h"
 #include "FlowWorkspace.h"
 #include "JobRunner.h"
+#include "LatticeEditor.h"
 #include "MainWindow.h"
 #include "OverlayScene.h"
 #include "SensitivityRunner.h"
@@ -69,6 +70,7 @@ class SensitivityTest : public QObject {
     void arrowsAtTheLatticePointsPointToABetterObjective();
     void surfaceSensitivityColoursTheWall();
     void sliderAndDragShowTheFirstOrderChangeLive();
+    void mouseDragShowsThePredictionWhileDragging();
     void confirmSolvesTheFlowAndShowsTheActualChange();
     void cancelKeepsThePreviousGradient();
     void objectiveCanBeChosen();
@@ -312,6 +314,56 @@ void SensitivityTest::sliderAndDragShowTheFirstOrderChangeLive() {
     QCOMPARE(*runner().prediction(), 0.0);
     doc().undoStack()->redo();
     QVERIFY(runner().outdated());
+}
+
+void SensitivityTest::mouseDragShowsThePredictionWhileDragging() {
+    const auto r = runner().result();
+    const double before = *runner().prediction();
+    aero::ui::VtkViewport* view = window_->viewport();
+    window_->viewport()->requestRender();
+    QTest::qWait(200);
+    // A lattice point that moves the wall and that the editor picks at its own screen position.
+    const auto& L = doc().lattices()[0];
+    const QRectF inner = QRectF(view->rect()).adjusted(40, 40, -40, -40);
+    int a = -1;
+    QPointF from;
+    for (int p = 0; p < L.controlCount() && a < 0; ++p) {
+        const double* g = &r->dLattice[0][3 * static_cast<std::size_t>(p)];
+        if (std::hypot(g[0], g[1], g[2]) == 0) continue;
+        const double* x = &L.points[3 * static_cast<std::size_t>(p)];
+        QPointF w;
+        if (!view->project({x[0], x[1], x[2]}, &w) || !inner.contains(w)) continue;
+        const auto hit = window_->latticeEditor().pointAt(w);
+        if (hit.lattice == 0 && hit.point == p) {
+            a = p;
+            from = w;
+        }
+    }
+    QVERIFY2(a >= 0, "no lattice point with a sensitivity can be picked");
+    const std::vector<double> start = doc().lattices()[0].points;
+    auto* status = window_->findChild<QLabel*>(QStringLiteral("predictionStatus"));
+    // Mid-drag (the button still down): the prediction follows the preview.
+    const QPointF to = from + QPointF(30, -25);
+    sendMouse(view, QEvent::MouseButtonPress, from, Qt::LeftButton, Qt::LeftButton);
+    for (int k = 1; k <= 6; ++k)
+        sendMouse(view, QEvent::MouseMove, from + (to - from) * (k / 6.0), Qt::NoButton, Qt::LeftButton);
+    QVERIFY(window_->latticeEditor().dragging());
+    QVERIFY(doc().previewing());
+    double expected = before;
+    for (int k = 0; k < 3; ++k)
+        expected += r->dLattice[0][3 * static_cast<std::size_t>(a) + k] *
+                    (doc().lattices()[0].points[3 * static_cast<std::size_t>(a) + k] - start[3 * static_cast<std::size_t>(a) + k]);
+    QVERIFY(expected != before);
+    QVERIFY(std::abs(*runner().prediction() - expected) <= 1e-9 * std::abs(expected));
+    QCOMPARE(status->text(), runner().predictionText());
+    std::printf("mid-drag of lattice point %d: predicted dCD %.6e (slider alone %.6e)\n", a, *runner().prediction(), before);
+    QVERIFY(window_->grab().save(kScreenshotDir + QStringLiteral("/sensitivity_drag.png")));
+    sendMouse(view, QEvent::MouseButtonRelease, to, Qt::LeftButton, Qt::NoButton);
+    // Committed: the same prediction, from the case's displacement now.
+    QVERIFY(!doc().previewing());
+    QVERIFY(std::abs(*runner().prediction() - expected) <= 1e-9 * std::abs(expected));
+    doc().undoStack()->undo();  // back to the slider move alone
+    QVERIFY(std::abs(*runner().prediction() - before) <= 1e-12 * std::abs(before));
 }
 
 void SensitivityTest::confirmSolvesTheFlowAndShowsTheActualChange() {
