@@ -23,7 +23,12 @@ void showMouseAndKeys(QWidget* parent) {
             "dissipation in the Flow panel), Shift+F5 stops it (the state reached is kept; Continue resumes it). The "
             "Residuals panel plots every iteration; the Flow panel chooses the field (entropy, Cp, Mach, pressure), "
             "its range, contour lines and a slice; the Sections panel cuts the wall at spanwise stations. Right-click "
-            "a plot to export it (PNG, SVG) or its data (CSV).</p>"));
+            "a plot to export it (PNG, SVG) or its data (CSV).</p>"
+            "<p><b>Sensitivities</b>: F6 solves the design's flow and its adjoint in the background: dJ/dv of the "
+            "objective next to every slider (click the column to sort), green arrows at the lattice points towards a "
+            "better objective, View \u25b8 Surface Sensitivity colours the wall by dJ/dA\u00b7n. While you move a "
+            "slider or drag a lattice point, the first-order change of J shows in the status bar; Confirm with a Flow "
+            "Solve compares it with the actual change.</p>"));
 }
 
 void showAbout(QWidget* parent) {

@@ -1,5 +1,6 @@
 #include "SensitivityRun.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
