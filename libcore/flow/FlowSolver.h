@@ -49,13 +49,13 @@ struct NewtonOptions {
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
     double smallStep = 0.1;            // a step scaled below this backs the CFL base off too
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
-    int stallIterations = 50;          // Stalled when for this many iterations neither the best
+    int stallIterations = 25;          // Stalled when for this many iterations neither the best
                                        // ||R|| has improved nor the CFL reached a new high (the
                                        // start-up transient of a fine grid raises ||R|| for 40+
-                                       // iterations while the full steps keep growing the CFL;
-                                       // creased random designs of the 98k optimization grid sit
-                                       // on a plateau for 27 iterations before Newton takes over:
-                                       // 25 stopped them, docs/validation.md)
+                                       // iterations while the full steps keep growing the CFL).
+                                       // 50 was tried on the stalled random designs of the 98k
+                                       // grid: none converged, each failure cost 1.5-5.6x the
+                                       // time (docs/validation.md); flow.stall_iterations sets it
     int maxRejections = 8;             // steps rejected in a row (CFL cut by 10 each) before giving up
     int iluFill = 1;                   // level of fill of the block ILU preconditioner (ILU(2)
                                        // halves GMRES iterations but doubles the factor cost)
