@@ -223,7 +223,11 @@ File parse(const std::string& text, const std::string& path) {
     f.global.unitFlag = static_cast<int>(flag);
     if (f.global.fields.size() > 14) f.global.unitName = std::string(trim(f.global.fields[14]));
     f.global.resolution = globalNumber(18, 0.0);
-    f.global.version = static_cast<int>(globalNumber(22, 0.0));
+    const double version = globalNumber(22, 0.0);
+    if (version != std::floor(version) || version < 0 || version > 99)
+        failFile(path, "global parameter 23 (IGES version) is " + f.global.fields[22] +
+                           ", not a version number (an integer, 1-11 in IGES 5.3)");
+    f.global.version = static_cast<int>(version);
 
     if (directory.size() % 2 != 0)
         failFile(path, "the directory section has an odd number of lines");

@@ -172,7 +172,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     json doc;
     try {
         doc = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1E400
         throw InputError("'" + path + "': not valid JSON: " + e.what());
     }
     const Ctx ctx{path};

@@ -116,7 +116,7 @@ geometry::PatchSet parsePatchSetJson(const std::string& text, const std::string&
     json doc;
     try {
         doc = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1E400
         throw InputError("'" + origin + "': not valid JSON: " + e.what());
     }
     if (!doc.is_object()) fail(origin, "document", "expected a JSON object");

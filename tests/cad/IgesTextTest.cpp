@@ -47,7 +47,7 @@ class HandIges {
         std::string label;
         int transform = 0;
     };
-    std::string unitFlag = "6", unitName = "1HM", modelScale = "1.0";
+    std::string unitFlag = "6", unitName = "1HM", modelScale = "1.0", version = "11";
 
     int add(int type, std::vector<std::string> params, std::string status = "00000000",
             std::string label = "", int form = 0) {
@@ -66,7 +66,8 @@ class HandIges {
         const std::string g =
             "1H,,1H;,4Hhand,8Htest.igs,4Hhand,4Hhand,32,38,6,308,15,4Hhand," + modelScale + "," +
             unitFlag + "," + unitName +
-            ",1,1.0,15H20260101.000000,1.0E-8,10.0,2Hme,2Hme,11,0,15H20260101.000000;";
+            ",1,1.0,15H20260101.000000,1.0E-8,10.0,2Hme,2Hme," + version +
+            ",0,15H20260101.000000;";
         int gs = 0;
         for (std::size_t at = 0; at < g.size(); at += 72) line(g.substr(at, 72), 'G', ++gs);
         std::vector<std::vector<std::string>> plines;
@@ -433,6 +434,24 @@ TEST(IgesText, UnitFlagsNamesAndModelScale) {
 
 // Each broken trim entity is refused before anything uses it, naming the file and the entity
 // with its directory line.
+// Found by fuzz_iges_text (tests/fuzz): a version of 2.0E14 was converted to int (undefined
+// behaviour). A version that is not a small integer is refused naming the file and the parameter.
+TEST(IgesText, AGlobalVersionThatIsNotAVersionNumberIsRefused) {
+    const std::string path = outputPath("hand_version.igs");
+    for (const std::string v : {"2.0E14", "-1", "10.5", "1.0E300"}) {
+        HandIges f = trimmedWing();
+        f.version = v;
+        writeText(path, f.text());
+        const std::string m = messageOf<InputError>([&] { readIges(path); });
+        EXPECT_NE(m.find(path), std::string::npos) << m;
+        EXPECT_NE(m.find("global parameter 23 (IGES version) is " + v), std::string::npos) << m;
+    }
+    HandIges f = trimmedWing();
+    f.version = "";  // blank: the default
+    writeText(path, f.text());
+    EXPECT_EQ(readIges(path).size(), 1);
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()

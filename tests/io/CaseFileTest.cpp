@@ -100,6 +100,18 @@ TEST(CaseFile, BadKeysTypesAndValuesNameTheKey) {
     EXPECT_THROW(io::readCase("/no/such/case.json"), InputError);
 }
 
+// Found by fuzz_patchset_json (tests/fuzz), the same JSON parsing here: a number out of double's
+// range escaped as nlohmann::json's out_of_range instead of an InputError naming the file.
+TEST(CaseFile, ANumberOutOfRangeIsInvalidJsonNamingTheFile) {
+    try {
+        io::parseCase(kHead + R"("flow": {"mach": -0.45E6745}})", "/cases/c.json");
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("'/cases/c.json': not valid JSON"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("number overflow"), std::string::npos) << e.what();
+    }
+}
+
 TEST(CaseFile, UnknownVariablesAndOutOfBoundsValuesAreRejected) {
     const std::string body = R"("lattices": [{}], "design_variables": {"stations": [{"bits": ["001","011","011","011","011","011"]}]}, )";
     const auto set = geometry::makeHalfSphere();

@@ -123,6 +123,10 @@ TEST(PatchSetJson, BadTrimsAndUnitsNameFileAndKey) {
 TEST(PatchSetJson, BadInputNamesFileAndKey) {
     const std::string good = io::formatPatchSetJson(geometry::makeHalfSphere());
     expectInputError("{ not json", "not valid JSON");
+    // Found by fuzz_patchset_json (tests/fuzz): a number out of double's range escaped as
+    // nlohmann::json's out_of_range instead of an InputError.
+    expectInputError(R"({"format": "aeroform.patchset", "version": 1, "patches": [1E400]})",
+                     "not valid JSON");
     expectInputError("[1, 2]", "expected a JSON object");
     expectInputError(R"({"format": "aeroform.patchset", "version": 1})", "missing key 'patches'");
     expectInputError(R"({"format": "something", "version": 1, "patches": []})", "format");
