@@ -44,6 +44,13 @@
 #include <StepData_Protocol.hxx>
 #include <StepData_StepModel.hxx>
 #include <StepData_StepWriter.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <StepGeom_BSplineCurve.hxx>
+#include <StepGeom_BSplineSurface.hxx>
+#include <StepGeom_HArray1OfCartesianPoint.hxx>
+#include <StepGeom_HArray2OfCartesianPoint.hxx>
+#include <StepGeom_Placement.hxx>
 #include <StepShape_Face.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -551,6 +558,68 @@ std::vector<EntityFaces> transferIgesEntities(const std::string& path, const std
     return results;
 }
 
+namespace {
+
+// OpenCASCADE's STEP translator uses the entities a file refers to without checking them: one it
+// could not read (a syntax error, a reference to nothing or to something of another type) is a
+// null handle there and the transfer crashes, e.g. on a control point of a B-spline, a placement's
+// location or a direction (found by fuzz_step, tests/fuzz). Such a file is refused naming the
+// file and the first entity. Points of B-splines and placements are also checked directly.
+void checkStepControlPoints(STEPControl_Reader& reader, const std::string& path) {
+    const Handle(StepData_StepModel) model = reader.StepModel();
+    if (model.IsNull()) return;
+    // The general case: OpenCASCADE records what it could not load (syntax errors, unresolved
+    // references, wrong parameter counts or types) and then translates the rest with null handles
+    // where those entities should be. Files it loads cleanly have no such failures.
+    Interface_CheckIterator checks = reader.WS()->ModelCheckList();
+    int fails = 0;
+    std::string first;
+    for (checks.Start(); checks.More(); checks.Next()) {
+        const Handle(Interface_Check)& check = checks.Value();
+        if (first.empty() && check->NbFails() > 0) {
+            const int n = checks.Number();
+            first = (n > 0 && n <= model->NbEntities()
+                         ? "#" + std::to_string(model->IdentLabel(model->Value(n))) + ": "
+                         : std::string()) +
+                    check->CFail(1);
+        }
+        fails += check->NbFails();
+    }
+    if (fails > 0)
+        throw InputError("STEP file " + quoted(path) + " is malformed (" + std::to_string(fails) +
+                         " error" + (fails > 1 ? "s" : "") + " reading it; the first: " + first + ")");
+    for (int i = 1; i <= model->NbEntities(); ++i) {
+        const Handle(Standard_Transient) entity = model->Value(i);
+        bool bad = false;
+        const char* what = nullptr;
+        if (const auto curve = Handle(StepGeom_BSplineCurve)::DownCast(entity); !curve.IsNull()) {
+            what = "B-spline curve";
+            const Handle(StepGeom_HArray1OfCartesianPoint) points = curve->ControlPointsList();
+            bad = points.IsNull();
+            for (int k = bad ? 0 : points->Lower(); !bad && k <= points->Upper(); ++k)
+                bad = points->Value(k).IsNull();
+        } else if (const auto surface = Handle(StepGeom_BSplineSurface)::DownCast(entity);
+                   !surface.IsNull()) {
+            what = "B-spline surface";
+            const Handle(StepGeom_HArray2OfCartesianPoint) points = surface->ControlPointsList();
+            bad = points.IsNull();
+            for (int r = bad ? 0 : points->LowerRow(); !bad && r <= points->UpperRow(); ++r)
+                for (int c = points->LowerCol(); !bad && c <= points->UpperCol(); ++c)
+                    bad = points->Value(r, c).IsNull();
+        } else if (const auto placement = Handle(StepGeom_Placement)::DownCast(entity);
+                   !placement.IsNull()) {
+            what = "placement";
+            bad = placement->Location().IsNull();
+        }
+        if (bad)
+            throw InputError("STEP file " + quoted(path) + ": " + what + " #" +
+                             std::to_string(model->IdentLabel(entity)) +
+                             " has a point that is not a readable CARTESIAN_POINT");
+    }
+}
+
+}  // namespace
+
 StepFile readStep(const std::string& path) {
     StepFile out;
     std::lock_guard lock(occtMutex);
@@ -560,6 +629,7 @@ StepFile readStep(const std::string& path) {
         STEPControl_Reader reader;
         if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
             throw InputError(quoted(path) + " is not a readable STEP file");
+        checkStepControlPoints(reader, path);
         TColStd_SequenceOfAsciiString lengths, angles, solidAngles;
         reader.FileUnits(lengths, angles, solidAngles);
         std::set<std::string> distinct;

@@ -155,6 +155,22 @@ TEST(Step, OurTrimmedPatchesRoundTrip) {
                 std::abs(geometry::signedArea(set.trims[0].holes[0])), 1e-12);
 }
 
+// Found by fuzz_step (tests/fuzz): an entity OpenCASCADE cannot read (here every CARTESIAN_POINT
+// misspelt; the fuzzer broke a control point of a p-curve, a placement's location, a direction)
+// was a null handle inside its translator, which crashed (SEGV in
+// StepGeom_CartesianPoint::NbCoordinates). The file is refused naming it and the first entity.
+TEST(Step, AnUnreadableControlPointIsRefusedNotACrash) {
+    const std::string path = outputPath("broken_points.stp");
+    fixtures::writeStepWithOcct(fixtures::trimmedFace(fixtures::wavySurface(), true), "MM", path);
+    std::string text = fixtures::slurp(path);
+    for (std::size_t at = 0; (at = text.find("= CARTESIAN_POINT(", at)) != std::string::npos;)
+        text.replace(at, 18, "= CARTESIAN_POIE(");
+    fixtures::writeText(path, text);
+    const std::string m = messageOf([&] { readStep(path); });
+    EXPECT_NE(m.find("STEP file '" + path + "'"), std::string::npos) << m;
+    EXPECT_NE(m.find("is malformed"), std::string::npos) << m;
+}
+
 TEST(Step, BadInputIsAnInputErrorNamingTheFile) {
     const std::string missing = outputPath("missing.stp");
     std::filesystem::remove(missing);
