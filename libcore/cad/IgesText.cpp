@@ -164,6 +164,11 @@ File parse(const std::string& text, const std::string& path) {
     std::string global;
     std::vector<std::string> directory;
     std::map<int, std::string> data;  // directory entry -> its parameter data (columns 1-64)
+    struct Lines {
+        int first = 0, last = 0, count = 0;  // positions in the parameter section, 1-based
+    };
+    std::map<int, Lines> dataLines;  // directory entry -> the parameter lines that name it
+    int parameterLine = 0;
     std::istringstream lines(text);
     int lineNumber = 0;
     for (std::string line; std::getline(lines, line);) {
@@ -187,6 +192,10 @@ File parse(const std::string& text, const std::string& path) {
                     "line " + std::to_string(lineNumber) +
                         ": parameter data without its directory entry pointer in columns 65-72");
             data[de].append(line, 0, 64);
+            Lines& l = dataLines[de];
+            ++parameterLine;
+            if (l.count++ == 0) l.first = parameterLine;
+            l.last = parameterLine;
         }
     }
     if (global.empty()) throw InputError(quoted(path) + " is not an IGES file (no global section)");
@@ -263,6 +272,23 @@ File parse(const std::string& text, const std::string& path) {
         if (it == data.end()) {
             if (geometric(e.type)) failEntity(f, e, "has no parameter data");
             continue;
+        }
+        // OpenCASCADE finds an entity's parameters through the directory entry's pointer and line
+        // count, we through the lines' back pointers: both must name the same lines, or
+        // OpenCASCADE reads other data than we checked (it crashed on such a file, found by
+        // fuzz_iges, tests/fuzz).
+        {
+            const Lines& l = dataLines[e.de];
+            bool ok = true;
+            const int pointer = fieldInt(directory[static_cast<std::size_t>(e.de - 1)], 1, ok);
+            const int count = fieldInt(directory[static_cast<std::size_t>(e.de)], 3, ok);
+            if (!ok || pointer != l.first || count != l.count || l.last - l.first + 1 != l.count)
+                failEntity(f, e,
+                           "its directory entry puts its parameter data on " +
+                               std::to_string(count) + " line(s) from parameter line " +
+                               std::to_string(pointer) + ", but the lines that name it are " +
+                               std::to_string(l.count) + " from line " +
+                               std::to_string(l.first) + " to " + std::to_string(l.last));
         }
         const std::vector<Token> tokens = tokenize(it->second, pd, rd);
         const int written =

@@ -452,6 +452,23 @@ TEST(IgesText, AGlobalVersionThatIsNotAVersionNumberIsRefused) {
     EXPECT_EQ(readIges(path).size(), 1);
 }
 
+// Found by fuzz_iges (tests/fuzz): parameter lines inserted out of place, so that the directory's
+// pointer and line count (what OpenCASCADE follows) named other lines than the lines' own back
+// pointers (what we follow); OpenCASCADE then crashed in IGESGeom_BSplineCurve::Init on data we
+// had not checked. Both must name the same lines.
+TEST(IgesText, ADirectoryPointerToOtherParameterLinesIsRefused) {
+    const std::string path = outputPath("hand_pointer.igs");
+    std::string text = trimmedWing().text();
+    const std::size_t at = text.find("     128       1       0");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, 24, "     128       2       0");
+    writeText(path, text);
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("entity 1 (type 128"), std::string::npos) << m;
+    EXPECT_NE(m.find("from parameter line 2, but the lines that name it are"), std::string::npos) << m;
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()
