@@ -469,6 +469,23 @@ TEST(IgesText, ADirectoryPointerToOtherParameterLinesIsRefused) {
     EXPECT_NE(m.find("from parameter line 2, but the lines that name it are"), std::string::npos) << m;
 }
 
+// Found by fuzz_iges (tests/fuzz): bytes that are not ASCII crashed OpenCASCADE's reader of the
+// text (SEGV in iges_newparam). They are refused naming the file, the line and the column.
+TEST(IgesText, AByteThatIsNotAsciiIsRefused) {
+    const std::string path = outputPath("hand_latin1.igs");
+    std::string text = trimmedWing().text();
+    const std::size_t at = text.find("4Hhand");
+    ASSERT_NE(at, std::string::npos);
+    text[at + 2] = static_cast<char>(0xE9);
+    writeText(path, text);
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("line 2, column " + std::to_string(at - text.find('\n') + 2) +
+                     ": byte 0xE9 is not ASCII"),
+              std::string::npos)
+        << m;
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()
