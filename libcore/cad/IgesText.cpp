@@ -185,6 +185,11 @@ File parse(const std::string& text, const std::string& path) {
                                    std::to_string(c + 1) + ": byte " + hex +
                                    " is not ASCII (IGES files are ASCII text)");
             }
+        // Records are 80 columns; a longer line has its section letter elsewhere than column 73
+        // for OpenCASCADE than for us (it then crashed on such a file; found by fuzz_iges).
+        if (line.size() > 80 && line.find_first_not_of(' ', 80) != std::string::npos)
+            failFile(path, "line " + std::to_string(lineNumber) + " is longer than 80 columns (" +
+                               std::to_string(line.size()) + ")");
         if (line.size() < 73) continue;
         const char section = line[72];
         if (lineNumber == 1 && (section == 'B' || section == 'C'))

@@ -486,6 +486,26 @@ TEST(IgesText, AByteThatIsNotAsciiIsRefused) {
         << m;
 }
 
+// Found by fuzz_iges (tests/fuzz): a global section line made longer than 80 columns was read
+// differently by OpenCASCADE, which then crashed in IGESGeom_BSplineSurface::Init. Refused.
+TEST(IgesText, ALineLongerThan80ColumnsIsRefused) {
+    const std::string path = outputPath("hand_long_line.igs");
+    std::string text = trimmedWing().text();
+    const std::size_t at = text.find("4Hhand");
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at, "17HIFSelect_Modifier,");
+    writeText(path, text);
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("line 2 is longer than 80 columns (101)"), std::string::npos) << m;
+    // Spaces after column 80 are harmless.
+    std::string padded = trimmedWing().text();
+    for (std::size_t nl = 0; (nl = padded.find('\n', nl)) != std::string::npos; nl += 4)
+        padded.insert(nl, "   ");
+    writeText(path, padded);
+    EXPECT_EQ(readIges(path).size(), 1);
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()
