@@ -6,8 +6,10 @@
 #include <complex>
 #include <limits>
 #include <map>
+#include <type_traits>
 
 #include "common/Error.h"
+#include "common/Format.h"
 #include "nurbs/Basis.h"
 
 namespace aero::ffd {
@@ -17,9 +19,7 @@ namespace {
 using geometry::Patch;
 
 std::string formatNumber(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", x);
-    return buf;
+    return format("%.6g", x);
 }
 
 // A point of the surface with its patch and parameters.
@@ -162,16 +162,17 @@ ThicknessConstraints::ThicknessConstraints(const FfdModel& model, const Thicknes
     for (const auto& q : spec.points) {
         wanted.push_back({q, "thickness (" + formatNumber(q[0]) + ", " + formatNumber(q[1]) + ")"});
     }
+    std::vector<geometry::TrimPolygons> trims(static_cast<std::size_t>(set.size()));
+    for (int p = 0; p < set.size(); ++p) {
+        if (set.trimmed(p)) trims[p] = geometry::polygonize(set.trims[p], set.patches[p]);
+    }
     for (const auto& [xy, name] : wanted) {
         std::vector<SurfaceHit> hits;
         for (int p = 0; p < set.size(); ++p) {
             std::vector<SurfaceHit> mine;
             intersectVertical(set.patches[p], p, xy[0], xy[1], tol, mine);
             for (const SurfaceHit& h : mine) {
-                if (set.trimmed(p)) {
-                    const geometry::TrimPolygons poly = geometry::polygonize(set.trims[p], set.patches[p]);
-                    if (!geometry::contains(poly, h.u, h.v)) continue;  // trimmed away
-                }
+                if (set.trimmed(p) && !geometry::contains(trims[p], h.u, h.v)) continue;  // trimmed away
                 bool known = false;
                 for (const SurfaceHit& k : hits) known = known || (k.point - h.point).norm() <= 1e3 * tol;
                 if (!known) hits.push_back(h);
@@ -363,8 +364,14 @@ std::vector<T> LatticeJacobianBound::ratiosOf(std::span<const T> v) const {
 template <class T>
 T LatticeJacobianBound::value(std::span<const double> vReal, std::span<const T> v) const {
     const std::vector<T> r = ratiosOf<T>(v);
-    const std::vector<double> rr = ratiosOf<double>(vReal);
-    const double m = *std::min_element(rr.begin(), rr.end());
+    // The shift m only keeps exp() in range (g does not depend on it): the real ratios' minimum.
+    double m = 0;
+    if constexpr (std::is_same_v<T, double>) {
+        m = *std::min_element(r.begin(), r.end());
+    } else {
+        const std::vector<double> rr = ratiosOf<double>(vReal);
+        m = *std::min_element(rr.begin(), rr.end());
+    }
     T sum(0);
     for (const T& x : r) sum += std::exp(-rho_ * (x - m));
     return m - std::log(sum) / rho_;

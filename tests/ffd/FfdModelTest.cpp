@@ -9,6 +9,7 @@
 #include "RandomNurbs.h"
 #include "ffd/Injectivity.h"
 #include "geometry/EnclosedVolume.h"
+#include "PaperModel.h"
 #include "geometry/HalfSphere.h"
 
 using namespace aero;
@@ -17,21 +18,7 @@ using cplx = std::complex<double>;
 
 namespace {
 
-// The paper's sample: a 6x6x2 lattice (cubic X, Y; linear Z) around the half-sphere, 6 spanwise
-// stations; the root translates in X, the others in X and Y (11 translations), every lattice point
-// scales vertically in its section (72), one taper per station (6): 89 variables.
-FfdModel paperModel() {
-    const auto set = geometry::makeHalfSphere();
-    LatticeSpec spec;
-    spec.name = "body";
-    spec.lattice = makeLattice(boxAround(set, {}, {0.05, 0.0, 0.05}), {6, 6, 2}, {3, 3, 1});
-    FfdModel m(set, {spec});
-    StationSpec st;
-    st.direction = 1;
-    st.bits = {"001", "011", "011", "011", "011", "011"};
-    m.design().addStations(st);
-    return m;
-}
+using test::paperModel;
 
 std::vector<double> randomStep(const FfdModel& m, unsigned seed, double size) {
     std::mt19937 rng(seed);

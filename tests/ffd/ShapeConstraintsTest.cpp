@@ -8,7 +8,7 @@
 
 #include "common/Error.h"
 #include "ffd/Injectivity.h"
-#include "geometry/HalfSphere.h"
+#include "PaperModel.h"
 
 using namespace aero;
 using namespace aero::ffd;
@@ -16,19 +16,7 @@ using cplx = std::complex<double>;
 
 namespace {
 
-// The paper's sample (as in FfdModelTest): 6x6x2 lattice around the half-sphere, 89 variables.
-FfdModel paperModel() {
-    const auto set = geometry::makeHalfSphere();
-    LatticeSpec spec;
-    spec.name = "body";
-    spec.lattice = makeLattice(boxAround(set, {}, {0.05, 0.0, 0.05}), {6, 6, 2}, {3, 3, 1});
-    FfdModel m(set, {spec});
-    StationSpec st;
-    st.direction = 1;
-    st.bits = {"001", "011", "011", "011", "011", "011"};
-    m.design().addStations(st);
-    return m;
-}
+using test::paperModel;
 
 std::vector<double> randomDesign(const FfdModel& m, unsigned seed, double fraction) {
     std::mt19937 rng(seed);
