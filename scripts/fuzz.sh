@@ -14,10 +14,10 @@ build=build/fuzz
 declare -A seeds=(
   [fuzz_iges_text]=iges [fuzz_iges]=iges [fuzz_step]=step [fuzz_patchset_json]=patchset_json
   [fuzz_case_file]=case_file [fuzz_plot3d]=plot3d [fuzz_restart]=restart
-  [fuzz_wall_pressure]=wall_pressure [fuzz_history]=history
+  [fuzz_wall_pressure]=wall_pressure [fuzz_history]=history [fuzz_warm_state]=warm_state
 )
 targets=(fuzz_iges_text fuzz_iges fuzz_step fuzz_patchset_json fuzz_case_file fuzz_plot3d fuzz_restart
-         fuzz_wall_pressure fuzz_history)
+         fuzz_wall_pressure fuzz_history fuzz_warm_state)
 if [ $# -gt 0 ]; then targets=("$@"); fi
 for t in "${targets[@]}"; do
   [ -n "${seeds[$t]:-}" ] || { echo "[fuzz] unknown target '$t'" >&2; exit 2; }

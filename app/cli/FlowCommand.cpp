@@ -42,9 +42,10 @@ const char* kFlowHelp =
     "cfl0, ...; docs/case-file.md). A progress line is printed per nonlinear iteration.\n"
     "Outputs (case key \"output\"): flow_vtk (.vtm: density, velocity, pressure, Cp, Mach, entropy;\n"
     "wall faces with Cp), residual_csv, restart. Ctrl+C stops between iterations and keeps the\n"
-    "state in the restart file (output.restart, or CASE.restart next to the case); --restart FILE\n"
-    "(or flow.restart) continues from it. Exit 1 if the solver does not converge (the reason is\n"
-    "printed; outputs are still written).\n"
+    "state in the restart file (output.restart, or CASE.restart next to the case); during the\n"
+    "solve that file is also rewritten every flow.checkpoint_seconds (60), so a killed run loses\n"
+    "at most that much work. --restart FILE (or flow.restart) continues from it. Exit 1 if the\n"
+    "solver does not converge (the reason is printed; outputs are still written).\n"
     "\n"
     "  --restart FILE  start from this restart file (same grid) instead of the free stream\n"
     "  --adjoint LIST  after a converged solve, the discrete adjoint of each functional of LIST\n"
@@ -92,6 +93,14 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             request.start = study::FlowStart{};
             request.start->restartFile = restartFrom;
         }
+        // Checkpoints: the restart file is rewritten (atomically) during the solve, so kill -9 or a
+        // power cut costs at most flow.checkpoint_seconds of work. Without output.restart the file
+        // next to the case only serves as that protection: removed again if the run converges and
+        // this run created it.
+        const std::string checkpointPath = !c.outputRestart.empty() ? c.outputRestart : defaultRestartPath(casePath);
+        const bool checkpointExisted = std::filesystem::exists(checkpointPath);
+        request.checkpointFile = checkpointPath;
+        request.checkpointSeconds = c.flow.checkpointSeconds;
         char buf[512];
         int first = 0;  // iterations of the run a restart continues
         auto progress = [&](const study::Progress& p) {
@@ -131,7 +140,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             throw GeometryError("'" + casePath + "': " + e.message + " (nothing written)");
         }
         const study::FlowResult& fr = *e.flow;
-        if (!fr.restartContinued) first = 0;
+        first = fr.restartContinued ? fr.previousIterations : 0;  // (also when no iteration was needed)
         const flow::FlowReport& rep = fr.report;
         const flow::FlowMesh& fm = fr.mesh;
         if (rep.history.empty() && !fr.report.message.empty() && e.status == study::EvaluationStatus::InvalidMesh) {
@@ -159,7 +168,12 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         // without output.restart a cancelled or failed run keeps it next to the case.
         nlohmann::ordered_json outputs = nlohmann::ordered_json::object();
         std::string restartTo = c.outputRestart;
-        if (restartTo.empty() && !rep.converged()) restartTo = defaultRestartPath(casePath);
+        if (restartTo.empty() && (!rep.converged() || (fr.checkpoints > 0 && checkpointExisted))) {
+            restartTo = defaultRestartPath(casePath);  // (a file that existed: left with the final state)
+        } else if (restartTo.empty() && fr.checkpoints > 0) {
+            std::error_code ec;
+            std::filesystem::remove(checkpointPath, ec);  // only a checkpoint of this converged run
+        }
         if (!restartTo.empty()) {
             io::RestartInfo info;
             info.freeStream = fr.residualOptions.freeStream;

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "cli/CliSupport.h"
+#include "common/AtomicFile.h"
 #include "common/Memory.h"
 #include "io/CaseWriter.h"
 #include "study/CaseEvaluator.h"
@@ -200,14 +201,14 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             std::to_string(redrawsMesh) + " for an invalid grid" +
             (feasible ? ", " + std::to_string(designs.linearRejections()) + " for a linear constraint" : std::string()));
         if (!csvPath.empty()) {
-            std::ofstream out(csvPath);
-            if (!out) throw InputError("cannot write '" + csvPath + "'");
+            std::ostringstream out;
             out << "design,status,converged,orders,iterations,gmres,seconds,peak_memory_mb,CL,CD,max_mach,max_mach_at,redraws,nodes\n";
             for (const Row& r : rows) {
                 out << r.label << ',' << r.status << ',' << (r.converged ? 1 : 0) << ',' << r.orders << ',' << r.iterations << ','
                     << r.gmres << ',' << r.seconds << ',' << r.peakMb << ',' << r.CL << ',' << r.CD << ',' << r.maxMach << ",\""
                     << r.maxMachAt << "\"," << r.redraws << ',' << r.nodes << '\n';
             }
+            writeTextAtomically(csvPath, out.str(), "sweep CSV");
             say("wrote " + csvPath);
         }
         if (json) {

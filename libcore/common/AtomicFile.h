@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <signal.h>
 #include <system_error>
 #include <unistd.h>
 
@@ -28,6 +29,7 @@ public:
         }
         if (fs::is_directory(target_, ec)) throw InputError("cannot write " + what_ + " '" + path_ + "': it is a directory");
         temporary_ = target_.string() + ".tmp" + std::to_string(::getpid());
+        removeOrphans();
     }
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
@@ -55,6 +57,27 @@ public:
     }
 
 private:
+    // Temporary files of this target left by a process that was killed while writing (kill -9,
+    // a power cut): removed, so they do not pile up next to the file. Only those whose process
+    // no longer exists; another live writer's file is left alone.
+    void removeOrphans() const {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        const std::string prefix = target_.filename().string() + ".tmp";
+        const fs::path dir = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+        for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+            const std::string name = it->path().filename().string();
+            if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+            const std::string digits = name.substr(prefix.size());
+            if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+            const pid_t pid = static_cast<pid_t>(std::stol(digits));
+            if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
+                std::error_code rm;
+                fs::remove(it->path(), rm);
+            }
+        }
+    }
+
     std::string path_, what_;
     std::filesystem::path target_;
     std::string temporary_;

@@ -174,7 +174,7 @@ GmresReport StepSystem::solve(const double* r, double* dq) {
 FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                      const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& opt,
                      const std::function<void(const FlowIteration&)>& progress,
-                     const std::atomic<bool>* cancel) {
+                     const std::atomic<bool>* cancel, const FlowCheckpoint& checkpoint) {
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -319,6 +319,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         rep.finalResidual = Rn;
         rep.history.push_back(rec);
         if (progress) progress(rec);
+        if (checkpoint) {
+            rep.seconds = elapsed();
+            checkpoint(q, rep);
+        }
         if (Rn <= opt.relativeTolerance * R0 || Rn <= opt.absoluteTolerance) {
             return finish(FlowStatus::Converged, "converged: residual reduced by " + sci(Rn / R0) + " in " +
                                                      std::to_string(rep.iterations) + " iterations");

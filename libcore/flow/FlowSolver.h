@@ -180,11 +180,14 @@ private:
 /// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream
 /// of o.freeStream; on return it holds the last accepted iterate (whatever the status).
 /// progress: called after every accepted iteration and every rejected attempt (rejected set);
-/// cancel: checked between iterations.
+/// cancel: checked between iterations; checkpoint: called after every accepted iteration with
+/// the state and the report so far (its iterations, residuals, CFL base and lumping: what a
+/// restart needs), so a caller can save the run's progress (the caller decides how often).
+using FlowCheckpoint = std::function<void(const std::vector<double>& q, const FlowReport& sofar)>;
 FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                      const ResidualOptions& o, std::vector<double>& q, const NewtonOptions& n = {},
                      const std::function<void(const FlowIteration&)>& progress = {},
-                     const std::atomic<bool>* cancel = nullptr);
+                     const std::atomic<bool>* cancel = nullptr, const FlowCheckpoint& checkpoint = {});
 
 /// sum_d (|m_d . u| + c |m_d|) at every node (the V/dt of CFL = 1).
 std::vector<double> timeStepScale(const FlowMesh& fm, const std::vector<double>& metrics,

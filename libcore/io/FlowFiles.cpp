@@ -340,4 +340,24 @@ void writeFlowVtm(const std::string& path, const flow::FlowMesh& fm, const std::
     writeVtm(path, groups);
 }
 
+void writeWarmState(const std::string& path, const std::vector<double>& q) {
+    std::string bytes(sizeof(std::uint64_t) + q.size() * sizeof(double), '\0');
+    const std::uint64_t n = q.size();
+    std::memcpy(bytes.data(), &n, sizeof n);
+    std::memcpy(bytes.data() + sizeof n, q.data(), q.size() * sizeof(double));
+    writeTextAtomically(path, bytes, "flow state");
+}
+
+std::vector<double> readWarmState(const std::string& path) {
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec || size < sizeof(std::uint64_t) || (size - sizeof(std::uint64_t)) % sizeof(double) != 0) return {};
+    std::ifstream in(path, std::ios::binary);
+    std::uint64_t n = 0;
+    if (!in.read(reinterpret_cast<char*>(&n), sizeof n) || n != (size - sizeof n) / sizeof(double)) return {};
+    std::vector<double> q(n);
+    if (!in.read(reinterpret_cast<char*>(q.data()), static_cast<std::streamsize>(n * sizeof(double)))) return {};
+    return q;
+}
+
 }  // namespace aero::io

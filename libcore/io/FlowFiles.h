@@ -33,6 +33,13 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
 /// grid (block count, or the block and its dims that differ).
 std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info = nullptr);
 
+/// A bare flow state (an optimization's warm starts: the node count, then q; native byte order,
+/// no layout), written atomically.
+void writeWarmState(const std::string& path, const std::vector<double>& q);
+/// Such a state, or empty when the file is missing, unreadable or damaged (its count must match
+/// the file's size: nothing is allocated from a count the data does not back).
+std::vector<double> readWarmState(const std::string& path);
+
 /// The residual history: one row per nonlinear iteration (iteration, residual,
 /// relative_residual, cfl, linear_iterations, linear_residual, step_scale, seconds). `first`
 /// numbers the rows from there (a resumed run continues the count).

@@ -170,6 +170,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "residual on the grid, or to the first run's when restarted)"));
         o.push_back(integer<FlowCase>("max_iterations", 1, 100000, [](FlowCase& c) -> int& { return c.newton.maxIterations; },
                             "nonlinear iterations"));
+        o.push_back(real<FlowCase>("checkpoint_seconds", "seconds", 0, true, 1e9, true,
+                                   [](FlowCase& c) -> double& { return c.checkpointSeconds; },
+                                   "during a solve, `aeroform-cli flow` writes its restart file (output.restart, or "
+                                   "CASE.restart next to the case) at most this often, so a killed run loses at most "
+                                   "this much work and continues with --restart (0: after every iteration)"));
         o.push_back(integer<FlowCase>("stall_iterations", 2, 100000,
                                       [](FlowCase& c) -> int& { return c.newton.stallIterations; },
                                       "stop as stalled after this many iterations without a new best residual or a new highest CFL"));

@@ -390,7 +390,33 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             say("the coarse solve did not converge (" + f->coarseReport.message + "): starting from the free stream");
         }
     }
-    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel);
+    flow::FlowCheckpoint checkpoint;
+    auto lastCheckpoint = std::chrono::steady_clock::now();
+    bool checkpointBroken = false;
+    if (!request.checkpointFile.empty()) {
+        checkpoint = [&](const std::vector<double>& state, const flow::FlowReport& sofar) {
+            const auto now = std::chrono::steady_clock::now();
+            if (checkpointBroken || std::chrono::duration<double>(now - lastCheckpoint).count() < request.checkpointSeconds) return;
+            io::RestartInfo info;
+            info.freeStream = ro.freeStream;
+            info.iterations = f->previousIterations + sofar.iterations;
+            info.residual = sofar.finalResidual;
+            info.initialResidual = sofar.initialResidual;
+            info.cflBase = sofar.cflBase;
+            info.lumping = sofar.lumping;
+            try {
+                io::writeRestart(request.checkpointFile, f->mesh, state, info);
+                ++f->checkpoints;
+            } catch (const Error& err) {
+                // A full disk must not stop the solve; the state is still written at the end.
+                say(std::string("warning: checkpoint not written (no more tried in this run): ") + err.what());
+                checkpointBroken = true;
+                return;
+            }
+            lastCheckpoint = std::chrono::steady_clock::now();
+        };
+    }
+    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
     f->q = std::move(q);
 
     // Functionals and the fields a user checks the answer against.

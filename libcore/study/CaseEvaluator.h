@@ -77,6 +77,10 @@ struct EvaluationRequest {
                                      // intervals (unset: the case's flow.grid_sequencing)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
     std::optional<double> alphaDeg;  // the angle of attack (unset: the case's flow.alpha)
+    std::string checkpointFile;      // non-empty: during the flow solve (the full grid's), the state
+                                     // is written to this restart file (io::writeRestart, atomic)
+    double checkpointSeconds = 60;   // ... at most this often (0: after every iteration), so a
+                                     // killed run loses at most this much work
     int worstCells = 10;     // how many of the worst cells the mesh quality summary locates
     // For an editor showing the shape as it is edited (the GUI document):
     bool keepInvalidShape = false;  // fill shape and uniqueSurface also for a non-injective
@@ -123,6 +127,7 @@ struct FlowResult {
     long coarseNodes = 0;
     bool warmStarted = false;
     int previousIterations = 0;             // a continued restart: the iterations before this run
+    int checkpoints = 0;                    // restart files written during the solve
     bool restartContinued = false;          // the restart had the same free stream: same run
     flow::ForceCoefficients forces;
     FlowLocation maxMach, maxEntropy;       // largest local Mach number, largest |s - s_inf|

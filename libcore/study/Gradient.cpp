@@ -173,7 +173,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             for (Eigen::Index p = 0; p < dAdB[l].outerSize(); ++p) {
                 const double* gp = &g[3 * static_cast<std::size_t>(points[static_cast<std::size_t>(p)])];
                 for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(dAdB[l], p); it; ++it) {
-                    for (int c = 0; c < 3; ++c) out[l][3 * static_cast<std::size_t>(it.col()) + c] += it.value() * gp[c];
+                    for (int d = 0; d < 3; ++d) out[l][3 * static_cast<std::size_t>(it.col()) + d] += it.value() * gp[d];
                 }
             }
         }

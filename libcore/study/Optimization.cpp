@@ -201,23 +201,6 @@ bool sameBits(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 // Flow states kept for warm starts: raw doubles behind a count.
-void writeState(const std::string& path, const std::vector<double>& q) {
-    std::string bytes(sizeof(std::uint64_t) + q.size() * sizeof(double), '\0');
-    const std::uint64_t n = q.size();
-    std::memcpy(bytes.data(), &n, sizeof n);
-    std::memcpy(bytes.data() + sizeof n, q.data(), q.size() * sizeof(double));
-    writeTextAtomically(path, bytes, "flow state");
-}
-
-std::vector<double> readState(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::uint64_t n = 0;
-    if (!in.read(reinterpret_cast<char*>(&n), sizeof n) || n > (1ull << 32)) return {};
-    std::vector<double> q(n);
-    if (!in.read(reinterpret_cast<char*>(q.data()), static_cast<std::streamsize>(n * sizeof(double)))) return {};
-    return q;
-}
-
 std::string csvText(const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
     std::string out = "\"";
@@ -562,7 +545,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             csv.rewrite(kept);
             replay.clear();
         }
-        if (lastOk > 0) ev.setWarmStart(readState(statePath(lastOk)));
+        if (lastOk > 0) ev.setWarmStart(io::readWarmState(statePath(lastOk)));
     };
     auto keepStates = [&](int newest, int previous) {
         // Only the newest converged state and the one it started from are needed by a resume.
@@ -644,7 +627,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 for (double x : thickness->ratios(v)) r.constraints.push_back(x);
             }
             if (jacobianBound) r.constraints.push_back(jacobianBound->value(v));
-            writeState(statePath(r.index), e->flow->q);
+            io::writeWarmState(statePath(r.index), e->flow->q);
             keepStates(r.index, lastOk);
             warmFromOf[r.index] = lastOk;
             lastOk = r.index;
@@ -691,7 +674,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             const OptimizationRecord* v = csv.valuesAt(u);
             const std::vector<double> keep = ev.lastConvergedState();
             const int from = v && warmFromOf.count(v->index) ? warmFromOf[v->index] : lastOk;
-            if (from > 0) ev.setWarmStart(readState(statePath(from)));
+            if (from > 0) ev.setWarmStart(io::readWarmState(statePath(from)));
             else ev.forgetWarmStart();
             e = evaluateAt(u);
             ev.setWarmStart(keep);

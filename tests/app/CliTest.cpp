@@ -485,6 +485,89 @@ TEST(Cli, FlowStopsKeepsItsStateAndResumesFromTheRestart) {
     EXPECT_NEAR(ja["largest_spacing_jump"].get<double>(), 1.42, 0.01);
 }
 
+// Issue #20: `flow` killed with SIGKILL at random moments (a fixed seed) loses at most one
+// checkpoint's work: the restart file on disk is always a complete one (old or new, never
+// half-written), each run continues the previous one's iterations, and the end result is the
+// uninterrupted run's. A converged run leaves no checkpoint file behind when it created it.
+TEST(Cli, FlowKilledAtRandomMomentsContinuesFromItsCheckpoint) {
+    const std::string mesh = R"("mesh": {"level": "coarse", "refine": 0.5, "grid_wall_spacing": 0.05, "farfield_radius": 5})";
+    const std::string flowKeys = R"(, "flow": {"mach": 0.5, "alpha": 1.0, "checkpoint_seconds": 0})";
+    std::filesystem::remove_all(outputPath("cli_flowkill"));
+    std::filesystem::create_directories(outputPath("cli_flowkill"));
+    const std::string whole = writeCase("flowkill_whole.json", mesh + flowKeys);
+    std::filesystem::remove(tmp("flowkill_whole.restart"));
+    const Result a = run("flow '" + whole + "' --json");
+    ASSERT_EQ(a.code, 0) << a.err;
+    const auto ja = nlohmann::json::parse(a.out);
+    EXPECT_FALSE(std::filesystem::exists(tmp("flowkill_whole.restart")));  // only protection: gone
+    const int wholeIterations = ja["newton_iterations"].get<int>();
+    ASSERT_GT(wholeIterations, 6);
+
+    const std::string state = outputPath("cli_flowkill/state.restart");
+    const std::string killed = writeCase("flowkill.json", mesh + flowKeys + R"(, "output": {"restart": "cli_flowkill/state.restart"})");
+    std::srand(20);  // the moments are random but the same on every run of the test
+    int kills = 0, exitedAlone = 0;
+    for (int round = 0; round < 4; ++round) {
+        const bool resume = std::filesystem::exists(state);
+        const pid_t pid = ::fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            const int devnull = ::open("/dev/null", O_WRONLY);
+            ::dup2(devnull, 1);
+            ::dup2(devnull, 2);
+            if (resume) {
+                ::execl(AEROFORM_CLI, AEROFORM_CLI, "flow", killed.c_str(), "--restart", state.c_str(), static_cast<char*>(nullptr));
+            } else {
+                ::execl(AEROFORM_CLI, AEROFORM_CLI, "flow", killed.c_str(), static_cast<char*>(nullptr));
+            }
+            ::_exit(127);
+        }
+        // Wait for this run's first checkpoint (a new file, or the old one replaced), then a
+        // random 0-0.8 s more: the kill lands anywhere, a write in progress included.
+        const auto before = resume ? std::filesystem::last_write_time(state) : std::filesystem::file_time_type::min();
+        int status = 0;
+        bool done = false;
+        for (int wait = 0; wait < 3000 && !done; ++wait) {
+            std::error_code ec;
+            const auto t = std::filesystem::last_write_time(state, ec);
+            if (!ec && t != before) break;
+            done = ::waitpid(pid, &status, WNOHANG) == pid;
+            ::usleep(10000);
+        }
+        const int extra = std::rand() % 800;
+        for (int ms = 0; ms < extra && !done; ms += 10) {
+            done = ::waitpid(pid, &status, WNOHANG) == pid;
+            ::usleep(10000);
+        }
+        if (!done) {
+            ::kill(pid, SIGKILL);
+            ::waitpid(pid, &status, 0);
+            ++kills;
+        } else {
+            ++exitedAlone;
+            ASSERT_TRUE(WIFEXITED(status)) << "round " << round;
+            break;
+        }
+        ASSERT_TRUE(std::filesystem::exists(state)) << "round " << round;
+    }
+    ASSERT_GT(kills, 0);
+    // Whatever the last kill interrupted, the file is a complete restart that continues the run.
+    const Result b = run("flow '" + killed + "' --restart '" + state + "' --json");
+    ASSERT_EQ(b.code, 0) << b.err;
+    const auto jb = nlohmann::json::parse(b.out);
+    EXPECT_TRUE(jb["converged"].get<bool>());
+    EXPECT_EQ(jb["initial_residual"], ja["initial_residual"]);  // the same run, continued
+    EXPECT_GT(jb["total_iterations"].get<int>(), jb["newton_iterations"].get<int>()) << b.err;  // work was kept
+    EXPECT_NEAR(jb["CL"].get<double>(), ja["CL"].get<double>(), 1e-7);
+    EXPECT_NEAR(jb["CD"].get<double>(), ja["CD"].get<double>(), 1e-7);
+    for (const auto& entry : std::filesystem::directory_iterator(outputPath("cli_flowkill"))) {
+        const std::string name = entry.path().filename().string();
+        EXPECT_EQ(name, "state.restart");  // a write cut by a kill left a .tmp file: the next write removed it
+    }
+    std::printf("flow killed %d times, %d runs ended on their own; final run %d of %d iterations\n", kills, exitedAlone,
+                jb["newton_iterations"].get<int>(), jb["total_iterations"].get<int>());
+}
+
 // A grid whose spacing jumps (5 radial nodes from a wall spacing of 1e-4 to the farfield at 20
 // radii: the radial cells grow about 30 times from one to the next) is named in a warning before the solve, with block and node.
 TEST(Cli, FlowWarnsAboutASpacingJumpBeforeTheSolve) {

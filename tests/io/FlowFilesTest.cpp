@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -182,4 +184,28 @@ TEST(FlowFiles, WallPressureRoundTripsAndBelongsToItsGrid) {
     std::ofstream(outPath("damaged.csv")) << text;
     refused(fm, outPath("damaged.csv"), "line 3");
     refused(fm, outPath("missing.csv"), "cannot read");
+}
+
+// Issue #20: an optimization's warm-start state round-trips bit for bit, and a damaged one (its
+// count not backed by the file's size, truncated, missing) reads as no state, allocating nothing
+// from the count (a count of 2^40 used to be allocated before reading).
+TEST(FlowFiles, WarmStateRoundTripsAndADamagedOneIsNoState) {
+    const std::vector<double> q = {1.0, -2.5, 3.25e-300, 0.1, 7.0};
+    const std::string path = outPath("warm.state");
+    io::writeWarmState(path, q);
+    EXPECT_EQ(io::readWarmState(path), q);
+
+    const std::string bytes = slurp(path);
+    std::string huge = bytes;
+    const std::uint64_t n = std::uint64_t(1) << 40;
+    std::memcpy(huge.data(), &n, sizeof n);
+    std::ofstream(outPath("huge.state"), std::ios::binary) << huge;
+    EXPECT_TRUE(io::readWarmState(outPath("huge.state")).empty());
+    std::ofstream(outPath("cut.state"), std::ios::binary) << bytes.substr(0, bytes.size() - 3);
+    EXPECT_TRUE(io::readWarmState(outPath("cut.state")).empty());
+    std::ofstream(outPath("tiny.state"), std::ios::binary) << "abc";
+    EXPECT_TRUE(io::readWarmState(outPath("tiny.state")).empty());
+    EXPECT_TRUE(io::readWarmState(outPath("missing.state")).empty());
+    io::writeWarmState(outPath("empty.state"), {});
+    EXPECT_TRUE(io::readWarmState(outPath("empty.state")).empty());
 }
