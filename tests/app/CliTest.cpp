@@ -793,26 +793,45 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
               std::string::npos);
     const auto wholeRecords = historyRecords(tmp("opt_whole/history.jsonl"));
 
-    // Killed in the middle of an evaluation after a few records, then resumed.
+    // Killed (SIGKILL) three times at random moments (a fixed seed: after a random number of
+    // records, then a random 0-0.4 s into whatever runs next, a history write included), each
+    // time resumed, killed again further on, and finally resumed to the end.
     const std::string jsonl = tmp("opt_killed/history.jsonl");
-    const pid_t pid = ::fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-        const int devnull = ::open("/dev/null", O_WRONLY);
-        ::dup2(devnull, 1);
-        ::dup2(devnull, 2);
-        ::execl(AEROFORM_CLI, AEROFORM_CLI, "optimize", killed.c_str(), "--quiet", static_cast<char*>(nullptr));
-        ::_exit(127);
+    std::srand(17);
+    std::size_t before = 0;
+    for (int round = 0; round < 3; ++round) {
+        const std::size_t have = historyRecords(jsonl).size();
+        const std::size_t left = wholeRecords.size() - have;
+        ASSERT_GT(left, 2u) << "round " << round;
+        const std::size_t cut = have + 1 + static_cast<std::size_t>(std::rand()) % (left / 2);
+        const pid_t pid = ::fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            const int devnull = ::open("/dev/null", O_WRONLY);
+            ::dup2(devnull, 1);
+            ::dup2(devnull, 2);
+            if (round == 0) {
+                ::execl(AEROFORM_CLI, AEROFORM_CLI, "optimize", killed.c_str(), "--quiet", static_cast<char*>(nullptr));
+            } else {
+                ::execl(AEROFORM_CLI, AEROFORM_CLI, "optimize", killed.c_str(), "--resume", "--quiet", static_cast<char*>(nullptr));
+            }
+            ::_exit(127);
+        }
+        for (int wait = 0; wait < 6000 && historyRecords(jsonl).size() < cut; ++wait) ::usleep(20000);
+        ::usleep(static_cast<useconds_t>(std::rand() % 400000));
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+        before = historyRecords(jsonl).size();  // every complete line parses (historyRecords)
+        ASSERT_GE(before, cut) << "round " << round;
+        ASSERT_LT(before, wholeRecords.size()) << "the run finished before it was killed (round " << round << ")";
+        for (std::size_t i = 0; i < before; ++i) {
+            nlohmann::json w = wholeRecords[i], k = historyRecords(jsonl)[i];
+            w.erase("replayed");
+            k.erase("replayed");
+            EXPECT_EQ(k, w) << "round " << round << ", record " << i;
+        }
     }
-    const std::size_t cut = wholeRecords.size() / 2;
-    for (int wait = 0; wait < 6000 && historyRecords(jsonl).size() < cut; ++wait) ::usleep(20000);
-    ::usleep(300000);  // into the next evaluation
-    ::kill(pid, SIGKILL);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    const std::size_t before = historyRecords(jsonl).size();
-    ASSERT_GE(before, cut);
-    ASSERT_LT(before, wholeRecords.size()) << "the run finished before it was killed";
 
     r = run("optimize '" + killed + "' --json --quiet");
     EXPECT_EQ(r.code, 1);
