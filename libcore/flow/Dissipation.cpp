@@ -16,7 +16,7 @@ T frozen(const T& x, bool freeze) {
 
 template <class T>
 void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& metrics, double gamma,
-                       bool freeze, DissipationFields<T>& f, bool spacing) {
+                       bool freeze, DissipationFields<T>& f, bool spacing, double switchSmoothing) {
     using std::sqrt;
     const long N = q.nodeCount();
     std::vector<T> p(N);
@@ -55,7 +55,12 @@ void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& me
                     const long c = idx[d] == 0 ? n + s : (idx[d] == len - 1 ? n - s : n);
                     const T num = p[c + s] - 2.0 * p[c] + p[c - s];
                     const T den = p[c + s] + 2.0 * p[c] + p[c - s];
-                    f.nu[d][n] = absR(num) / den;
+                    if (switchSmoothing > 0) {
+                        const T raw = num / den;
+                        f.nu[d][n] = sqrt(raw * raw + switchSmoothing * switchSmoothing) - switchSmoothing;
+                    } else {
+                        f.nu[d][n] = absR(num) / den;
+                    }
                 }
             }
         }
@@ -67,7 +72,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
                     const DissipationOptions& o, double gamma, bool lumped, bool freeze,
                     const BlockView<T>& r) {
     DissipationFields<T> f;
-    dissipationFields(q, metrics, gamma, freeze, f, o.gridAware && !lumped);
+    dissipationFields(q, metrics, gamma, freeze, f, o.gridAware && !lumped, o.switchSmoothing);
     const std::array<int, 3> dims = q.dims;
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < dims[2]; ++k) {
@@ -137,7 +142,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
 
 #define AERO_INSTANTIATE(T)                                                                        \
     template void dissipationFields<T>(const BlockView<const T>&, const BlockView<const T>&,      \
-                                       double, bool, DissipationFields<T>&, bool);                       \
+                                       double, bool, DissipationFields<T>&, bool, double);               \
     template void addDissipation<T>(const BlockView<const T>&, const BlockView<const T>&,         \
                                     const DissipationOptions&, double, bool, bool,                 \
                                     const BlockView<T>&);

@@ -40,7 +40,23 @@ struct DissipationOptions {
                             // iterations, 8: 89, 4: 55, 3: 47 (with ILU(1)), 2: 38
                             // (docs/validation.md); ILU(1-2) of it stays stable from 2 on
                             // (ILU(0) breaks down below about 16)
+    double switchSmoothing = 0;  // delta > 0: the switch's |.| and max() replaced by smooth
+                                 // versions of width delta (nu = sqrt(nu_raw^2 + delta^2) - delta,
+                                 // max(a, b) = (a + b + sqrt((a - b)^2 + delta^2) - delta) / 2, and
+                                 // max(0, kappa4 - kappa2 nu) with width delta kappa4), so the
+                                 // residual is differentiable and Newton does not chatter where the
+                                 // switch changes branch (docs/validation.md); 0: the kinked form
 };
+
+/// max(a, b) of the switch: by the real part, or smooth with width delta (a lower bound of max
+/// within delta / 2, equal to it for a = b).
+template <class T>
+inline T switchMax(const T& a, const T& b, double delta) {
+    using std::sqrt;
+    if (delta <= 0) return maxR(a, b);
+    const T d = a - b;
+    return 0.5 * (a + b + sqrt(d * d + delta * delta) - delta);
+}
 
 /// Pressure-switch and spectral-radius fields of one block, per direction: lambda[d][node],
 /// nu[d][node].
@@ -55,16 +71,16 @@ struct DissipationFields {
 /// derivatives: the frozen-coefficient Jacobian).
 template <class T>
 void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& metrics, double gamma,
-                       bool freeze, DissipationFields<T>& f, bool spacing = false);
+                       bool freeze, DissipationFields<T>& f, bool spacing = false, double switchSmoothing = 0);
 
 template <class T>
 inline T eps2Half(const T& lamA, const T& lamB, const T& nuA, const T& nuB,
                   const DissipationOptions& o) {
-    return o.kappa2 * 0.5 * (lamA + lamB) * maxR(nuA, nuB);
+    return o.kappa2 * 0.5 * (lamA + lamB) * switchMax(nuA, nuB, o.switchSmoothing);
 }
 template <class T>
 inline T eps4Node(const T& lam, const T& nu, const DissipationOptions& o) {
-    return lam * maxR(T(0.0), T(o.kappa4 - o.kappa2 * nu));
+    return lam * switchMax(T(0.0), T(o.kappa4 - o.kappa2 * nu), o.switchSmoothing * o.kappa4);
 }
 /// The lumped variant's coefficient at i+1/2.
 template <class T>

@@ -160,6 +160,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "second-difference dissipation coefficient (shocks, scaled by the pressure switch)"));
         o.push_back(real<FlowCase>("kappa4", "", 0, true, 1, false, [](FlowCase& c) -> double& { return c.dissipation.kappa4; },
                                    "fourth-difference (background) dissipation coefficient"));
+        o.push_back(real<FlowCase>("switch_smoothing", "", 0, true, 0.5, true,
+                                   [](FlowCase& c) -> double& { return c.dissipation.switchSmoothing; },
+                                   "width of the smooth absolute value and maximum in the pressure switch and the fourth-difference "
+                                   "coefficient (0: the kinked JST form); a differentiable residual lets Newton converge "
+                                   "where the switch would flip between branches"));
         o.push_back(boolean<FlowCase>("grid_aware_dissipation", [](FlowCase& c) -> bool& { return c.dissipation.gridAware; },
                             "the fourth difference scaled by the grid's own spacing ratio in each direction, so on a "
                             "stretched grid it does not act as a first-order wall friction; false: the index-space "
@@ -211,6 +216,9 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         }
         o.push_back(integer<FlowCase>("gmres_restart", 5, 500, [](FlowCase& c) -> int& { return c.newton.gmresRestart; },
                             "Krylov vectors per GMRES cycle of a Newton step (memory: 5 values per grid node each)"));
+        o.push_back(integer<FlowCase>("gmres_max_iterations", 1, 100000,
+                                      [](FlowCase& c) -> int& { return c.newton.gmresMaxIterations; },
+                                      "GMRES iterations at most per Newton step (over its restart cycles)"));
         o.push_back(integer<FlowCase>("gmres_deflation", 0, 200, [](FlowCase& c) -> int& { return c.newton.gmresDeflation; },
                             "harmonic Ritz vectors a Newton step's GMRES keeps over a restart (GMRES-DR; 0: plain "
                             "restarts); below gmres_restart - 1"));
