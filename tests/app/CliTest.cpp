@@ -12,6 +12,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "geometry/Trim.h"
 #include "io/PatchSetJson.h"
@@ -45,6 +47,23 @@ Result run(const std::string& args, const char* program = AEROFORM_CLI) {
 }
 
 const std::string kSamples = AEROFORM_SAMPLES_DIR;
+
+// Starts aeroform-cli with `args` in a child process (stdout and stderr to /dev/null) and returns
+// its pid, for tests that kill it.
+pid_t spawnCli(const std::vector<std::string>& args) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int devnull = ::open("/dev/null", O_WRONLY);
+        ::dup2(devnull, 1);
+        ::dup2(devnull, 2);
+        std::vector<char*> argv{const_cast<char*>(AEROFORM_CLI)};
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(AEROFORM_CLI, argv.data());
+        ::_exit(127);
+    }
+    return pid;
+}
 
 }  // namespace
 
@@ -509,19 +528,8 @@ TEST(Cli, FlowKilledAtRandomMomentsContinuesFromItsCheckpoint) {
     int kills = 0, exitedAlone = 0;
     for (int round = 0; round < 4; ++round) {
         const bool resume = std::filesystem::exists(state);
-        const pid_t pid = ::fork();
+        const pid_t pid = resume ? spawnCli({"flow", killed, "--restart", state}) : spawnCli({"flow", killed});
         ASSERT_GE(pid, 0);
-        if (pid == 0) {
-            const int devnull = ::open("/dev/null", O_WRONLY);
-            ::dup2(devnull, 1);
-            ::dup2(devnull, 2);
-            if (resume) {
-                ::execl(AEROFORM_CLI, AEROFORM_CLI, "flow", killed.c_str(), "--restart", state.c_str(), static_cast<char*>(nullptr));
-            } else {
-                ::execl(AEROFORM_CLI, AEROFORM_CLI, "flow", killed.c_str(), static_cast<char*>(nullptr));
-            }
-            ::_exit(127);
-        }
         // Wait for this run's first checkpoint (a new file, or the old one replaced), then a
         // random 0-0.8 s more: the kill lands anywhere, a write in progress included.
         const auto before = resume ? std::filesystem::last_write_time(state) : std::filesystem::file_time_type::min();
@@ -804,29 +812,19 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
         const std::size_t left = wholeRecords.size() - have;
         ASSERT_GT(left, 2u) << "round " << round;
         const std::size_t cut = have + 1 + static_cast<std::size_t>(std::rand()) % (left / 2);
-        const pid_t pid = ::fork();
+        const pid_t pid = round == 0 ? spawnCli({"optimize", killed, "--quiet"}) : spawnCli({"optimize", killed, "--resume", "--quiet"});
         ASSERT_GE(pid, 0);
-        if (pid == 0) {
-            const int devnull = ::open("/dev/null", O_WRONLY);
-            ::dup2(devnull, 1);
-            ::dup2(devnull, 2);
-            if (round == 0) {
-                ::execl(AEROFORM_CLI, AEROFORM_CLI, "optimize", killed.c_str(), "--quiet", static_cast<char*>(nullptr));
-            } else {
-                ::execl(AEROFORM_CLI, AEROFORM_CLI, "optimize", killed.c_str(), "--resume", "--quiet", static_cast<char*>(nullptr));
-            }
-            ::_exit(127);
-        }
         for (int wait = 0; wait < 6000 && historyRecords(jsonl).size() < cut; ++wait) ::usleep(20000);
         ::usleep(static_cast<useconds_t>(std::rand() % 400000));
         ::kill(pid, SIGKILL);
         int status = 0;
         ::waitpid(pid, &status, 0);
-        before = historyRecords(jsonl).size();  // every complete line parses (historyRecords)
+        const auto records = historyRecords(jsonl);  // every complete line parses
+        before = records.size();
         ASSERT_GE(before, cut) << "round " << round;
         ASSERT_LT(before, wholeRecords.size()) << "the run finished before it was killed (round " << round << ")";
         for (std::size_t i = 0; i < before; ++i) {
-            nlohmann::json w = wholeRecords[i], k = historyRecords(jsonl)[i];
+            nlohmann::json w = wholeRecords[i], k = records[i];
             w.erase("replayed");
             k.erase("replayed");
             EXPECT_EQ(k, w) << "round " << round << ", record " << i;

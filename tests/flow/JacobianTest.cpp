@@ -32,6 +32,20 @@ double relDiff(const std::vector<double>& a, const std::vector<double>& b) {
     return std::sqrt(s) / std::max(norm(a), norm(b));
 }
 
+// (R(q + eps v) - R(q - eps v)) / (2 eps): the real residual's directional derivative.
+std::vector<double> centralDifference(const FlowCase& c, const std::vector<double>& q, const std::vector<double>& v,
+                                      const ResidualOptions& o, double eps) {
+    std::vector<double> qp(q), qm(q), rp(q.size()), rm(q.size()), fd(q.size());
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        qp[i] += eps * v[i];
+        qm[i] -= eps * v[i];
+    }
+    residual(c.fm, c.metrics.data(), qp.data(), o, rp.data());
+    residual(c.fm, c.metrics.data(), qm.data(), o, rm.data());
+    for (std::size_t i = 0; i < q.size(); ++i) fd[i] = (rp[i] - rm[i]) / (2 * eps);
+    return fd;
+}
+
 // A state with every part of the dissipation active (smooth flow plus small noise).
 std::vector<double> testState(const FlowCase& c) {
     auto q = smoothState(c, 0.5, 0.08);
@@ -98,17 +112,9 @@ TEST(Jacobian, MatchesComplexStepOnRandomDirections) {
     smooth.dissipation.kappa2 = 0.0;
     assembleJacobian(c.fm, c.metrics, q.data(), smooth, J);
     const auto v = randomVector(q.size(), 9);
-    const double eps = 1e-6;
-    std::vector<double> qp(q), qm(q), rp(q.size()), rm(q.size()), fd(q.size()), a(q.size());
-    for (std::size_t i = 0; i < q.size(); ++i) {
-        qp[i] += eps * v[i];
-        qm[i] -= eps * v[i];
-    }
-    residual(c.fm, c.metrics.data(), qp.data(), smooth, rp.data());
-    residual(c.fm, c.metrics.data(), qm.data(), smooth, rm.data());
-    for (std::size_t i = 0; i < q.size(); ++i) fd[i] = (rp[i] - rm[i]) / (2 * eps);
+    std::vector<double> a(q.size());
     J.mult(v.data(), a.data());
-    EXPECT_LT(relDiff(a, fd), 1e-8);
+    EXPECT_LT(relDiff(a, centralDifference(c, q, v, smooth, 1e-6)), 1e-8);
 }
 
 // flow.switch_smoothing: with the switch's |.| and max() made smooth, the whole residual (pressure
@@ -123,27 +129,16 @@ TEST(Jacobian, SmoothSwitchMakesTheResidualDifferentiable) {
     BlockSparseMatrix J = jacobianPattern(c.fm, 2);
     assembleJacobian(c.fm, c.metrics, q.data(), o, J);
     const auto v = randomVector(q.size(), 11);
-    auto centralDifference = [&](const ResidualOptions& ro, double eps) {
-        std::vector<double> qp(q), qm(q), rp(q.size()), rm(q.size()), fd(q.size());
-        for (std::size_t i = 0; i < q.size(); ++i) {
-            qp[i] += eps * v[i];
-            qm[i] -= eps * v[i];
-        }
-        residual(c.fm, c.metrics.data(), qp.data(), ro, rp.data());
-        residual(c.fm, c.metrics.data(), qm.data(), ro, rm.data());
-        for (std::size_t i = 0; i < q.size(); ++i) fd[i] = (rp[i] - rm[i]) / (2 * eps);
-        return fd;
-    };
     std::vector<double> a(q.size());
     J.mult(v.data(), a.data());
-    const double smoothError = relDiff(a, centralDifference(o, 1e-6));
+    const double smoothError = relDiff(a, centralDifference(c, q, v, o, 1e-6));
     EXPECT_LT(smoothError, 1e-8);
 
     ResidualOptions kinked = o;
     kinked.dissipation.switchSmoothing = 0;
     assembleJacobian(c.fm, c.metrics, q.data(), kinked, J);
     J.mult(v.data(), a.data());
-    const double kinkedError = relDiff(a, centralDifference(kinked, 1e-6));
+    const double kinkedError = relDiff(a, centralDifference(c, q, v, kinked, 1e-6));
     std::printf("central differences against the exact Jacobian: smooth switch %.2e, kinked switch %.2e\n", smoothError,
                 kinkedError);
     EXPECT_GT(kinkedError, 100 * smoothError);  // the kinks are real, and gone
