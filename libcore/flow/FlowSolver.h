@@ -48,6 +48,14 @@ struct NewtonOptions {
                                        // a complex one; Jacobian.h) or complex step
     double maxRelativeChange = 0.3;    // step scaled so rho and p change by at most this fraction
     double smallStep = 0.1;            // a step scaled below this backs the CFL base off too
+    bool localCfl = false;             // per-node CFL factors: a node the step would change (rho or p)
+                                       // by more than maxRelativeChange takes its part of the step
+                                       // scaled to the limit and its own time step cut by the same
+                                       // factor, instead of the whole step being scaled; the factor
+                                       // of every other node doubles back towards 1; so one node at
+                                       // a sharp edge does not hold the whole field's step and CFL
+                                       // down (flow.local_cfl; docs/validation.md)
+    double localCflFloor = 1e-3;       // smallest per-node factor
     double divergenceFactor = 1e4;     // Diverged when ||R|| > factor ||R0||
     int stallIterations = 25;          // Stalled when for this many iterations neither the best
                                        // ||R|| has improved nor the CFL reached a new high (the
@@ -150,6 +158,8 @@ public:
     /// Assembles the preconditioner's matrix at state q for this CFL; `exact` selects the system
     /// matrix of solve(). r = R(q) (the difference products use it).
     void assemble(const double* q, const double* r, double cfl, bool exact);
+    /// Per-node factors on the CFL (empty: 1 everywhere); used by the next assemble().
+    void setLocalCfl(const std::vector<double>* factors) { local_ = factors; }
     /// Factors the preconditioner; false with the reason when a pivot is singular.
     bool factor(std::string& why);
     /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled).
@@ -172,6 +182,7 @@ private:
     std::vector<double> d_, rhs_;  // V/dt per node; -R
     const double* q_ = nullptr;
     const double* r_ = nullptr;
+    const std::vector<double>* local_ = nullptr;
     bool exact_ = false;
     bool factored_ = false;       // ilu_ holds the factors of the last assemble()
     bool productsReady_ = false;  // jp_ holds the state of the last assemble()

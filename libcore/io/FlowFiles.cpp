@@ -344,7 +344,7 @@ void writeWarmState(const std::string& path, const std::vector<double>& q) {
     std::string bytes(sizeof(std::uint64_t) + q.size() * sizeof(double), '\0');
     const std::uint64_t n = q.size();
     std::memcpy(bytes.data(), &n, sizeof n);
-    std::memcpy(bytes.data() + sizeof n, q.data(), q.size() * sizeof(double));
+    if (!q.empty()) std::memcpy(bytes.data() + sizeof n, q.data(), q.size() * sizeof(double));
     writeTextAtomically(path, bytes, "flow state");
 }
 

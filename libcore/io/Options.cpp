@@ -227,6 +227,10 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "
                                    "to the second difference); smaller is closer to the real operator but less "
                                    "diagonally dominant"));
+        o.push_back(boolean<FlowCase>("local_cfl", [](FlowCase& c) -> bool& { return c.newton.localCfl; },
+                            "per-node CFL factors: a node the step would change by more than 30 % (density or "
+                            "pressure) gets a smaller time step of its own instead of cutting the whole step, so "
+                            "one node at a sharp edge does not hold the field's CFL down"));
         o.push_back(boolean<FlowCase>("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
                             "a cold start first converges on half the grid intervals of the same analytic grid (exact "
                             "prolongation in the grid parameters), then on the case's grid"));
