@@ -8,8 +8,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "cad/Occt.h"
+#include "cad/StepText.h"
 #include "common/Error.h"
 
 namespace aero::cad {
@@ -22,7 +24,9 @@ std::string number(double x) {
     return buf;
 }
 
-/// A file that does not start like STEP ("ISO-10303-21;") is refused before OpenCASCADE sees it.
+/// A file that does not start like STEP ("ISO-10303-21;") is refused before OpenCASCADE sees it,
+/// and so is one whose exchange structure is not well formed (cad/StepText.h: OpenCASCADE's loader
+/// crashes on some).
 void checkStepText(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
@@ -36,6 +40,11 @@ void checkStepText(const std::string& path) {
     if (start == std::string::npos || head.compare(start, 13, "ISO-10303-21;") != 0)
         throw InputError("'" + path +
                          "' is not a STEP file (it does not start with ISO-10303-21;)");
+    in.clear();
+    in.seekg(0);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError("cannot read STEP file '" + path + "': " + std::strerror(errno));
+    step::checkExchangeStructure(text, path);
 }
 
 }  // namespace
