@@ -251,18 +251,12 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
                                  // an exact step fails)
     int windowStart = 0;         // history index from which the approximate steps are judged
-    bool exactFailed = false;    // an exact step's GMRES failed: approximate steps until they crawl
-                                 // (the crawl test below hands them back to Newton), instead of
-                                 // exact ones again at the next iteration because exactBelow
-                                 // allows them (on the 903k sphere the exact systems at CFL
-                                 // 1,000-1,500 failed again and again, and one half-solved step
-                                 // raised the residual 7.6 times)
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
         const double cfl = law.next(Rn, R0);
-        bool exact = newton || (!exactFailed && Rn <= opt.exactBelow * R0);
+        bool exact = newton || Rn <= opt.exactBelow * R0;
         system.assemble(q.data(), r.data(), cfl, exact);
         FlowIteration rec;
         std::string why;             // why the step was rejected
@@ -329,7 +323,6 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             // steps has to show itself again before the next exact one.
             exact = false;
             newton = false;
-            exactFailed = linearFailed;
             windowStart = static_cast<int>(rep.history.size()) + 1;
             linearFailed = false;
             system.useApproximate();
