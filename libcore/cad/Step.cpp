@@ -8,7 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <sstream>
 
 #include "cad/Occt.h"
 #include "cad/StepText.h"
@@ -40,11 +40,11 @@ void checkStepText(const std::string& path) {
     if (start == std::string::npos || head.compare(start, 13, "ISO-10303-21;") != 0)
         throw InputError("'" + path +
                          "' is not a STEP file (it does not start with ISO-10303-21;)");
-    in.clear();
-    in.seekg(0);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The rest of the file after the head already read, in one go.
+    std::ostringstream rest;
+    if (in) rest << in.rdbuf();
     if (in.bad()) throw InputError("cannot read STEP file '" + path + "': " + std::strerror(errno));
-    step::checkExchangeStructure(text, path);
+    step::checkExchangeStructure(head + std::move(rest).str(), path);
 }
 
 }  // namespace

@@ -249,24 +249,22 @@ private:
         next();
     }
 
-    // A parameter list after its '(' up to and including ')'; returns the parameter count.
-    int parameters(int depth) {
+    // A parameter list after its '(' up to and including ')'.
+    void parameters(int depth) {
         if (depth > kMaxDepth) fail("parameters nested deeper than " + std::to_string(kMaxDepth) + " lists");
         if (tok_ == Tok::Close) {
             next();
-            return 0;
+            return;
         }
-        int count = 0;
         for (;;) {
             parameter(depth);
-            ++count;
             if (tok_ == Tok::Comma) {
                 next();
                 continue;
             }
             if (tok_ == Tok::Close) {
                 next();
-                return count;
+                return;
             }
             fail("expected ',' or ')' in a parameter list, found " + found());
         }
@@ -301,12 +299,12 @@ private:
         }
     }
 
-    // KEYWORD(params) ; with the keyword already current.
-    int record(const std::string& what) {
+    // KEYWORD(params), the keyword current (the caller reads what follows).
+    void record(const std::string& what) {
         if (tok_ != Tok::Keyword) fail("expected " + what + ", found " + found());
         next();
         expect(Tok::Open, "after the keyword");
-        return parameters(0);
+        parameters(0);
     }
 
     // The header's entities (FILE_DESCRIPTION, FILE_NAME, FILE_SCHEMA by the standard) are

@@ -96,14 +96,9 @@ TEST(Dissipation, LeavesAConstantStateAndAFieldLinearInArcLengthUntouched) {
     // A line stretched by 1.3 per cell (a wall layer), velocity linear in arc length.
     const int n = 14;
     std::vector<double> h(n), s(n), p(n, 1.0 / 1.4), u(n), uniform(n, 0.5);
-    double x = 0;
-    for (int i = 0; i < n; ++i) {
-        h[i] = 0.01 * std::pow(1.3, i);
-        s[i] = x;
-        x += h[i];
-    }
-    // The node spacing the dissipation sees is the metric's (1/J)/|m_xi| = h_i: make the nodes'
-    // arc-length positions consistent with it (x_{i+1} - x_i = (h_i + h_{i+1}) / 2).
+    for (int i = 0; i < n; ++i) h[i] = 0.01 * std::pow(1.3, i);
+    // The node spacing the dissipation sees is the metric's (1/J)/|m_xi| = h_i: the nodes'
+    // arc-length positions consistent with it (s_{i+1} - s_i = (h_i + h_{i+1}) / 2).
     s[0] = 0;
     for (int i = 1; i < n; ++i) s[i] = s[i - 1] + 0.5 * (h[i - 1] + h[i]);
     for (int i = 0; i < n; ++i) u[i] = 0.3 + 2.0 * s[i];
