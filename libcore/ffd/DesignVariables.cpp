@@ -28,6 +28,13 @@ int DesignSpace::addStations(const StationSpec& spec) {
         throw CaseError("design_variables.stations.bits: " + std::to_string(spec.bits.size()) + " bit strings for " +
                         std::to_string(nStations) + " stations");
     }
+    // Every bit string is checked before anything is added, so a refused spec changes nothing.
+    for (std::size_t s = 0; s < spec.bits.size(); ++s) {
+        const std::string& b = spec.bits[s];
+        if (b.size() != 3 || b.find_first_not_of("01") != std::string::npos) {
+            throw CaseError("design_variables.stations.bits[" + std::to_string(s) + "]: expected three 0/1 digits (zyx), got '" + b + "'");
+        }
+    }
     const int before = size();
     const int first = static_cast<int>(stations_.size());
     for (int s = 0; s < nStations; ++s) {
@@ -54,9 +61,6 @@ int DesignSpace::addStations(const StationSpec& spec) {
         const std::string sname = prefix + std::to_string(s);
         if (!spec.bits.empty()) {
             const std::string& b = spec.bits[s];
-            if (b.size() != 3 || b.find_first_not_of("01") != std::string::npos) {
-                throw CaseError("design_variables.stations.bits[" + std::to_string(s) + "]: expected three 0/1 digits (zyx), got '" + b + "'");
-            }
             for (int axis = 0; axis < 3; ++axis) {
                 if (b[2 - axis] != '1') continue;
                 DesignVariable d;

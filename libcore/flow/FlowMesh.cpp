@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <unordered_map>
 #include <utility>
 
@@ -150,22 +151,32 @@ FlowMesh makeFlowMesh(std::vector<FlowBlock> blocks, const std::vector<mesh::Nod
         fm.interfaces[jt->second].nodes.push_back({p.nodeA, p.nodeB});
     }
 
-    // Every interface face must be paired node for node.
-    std::map<std::pair<int, int>, long> paired;
+    // Every interface face must be paired node for node: each of its nodes in exactly one pair
+    // (a count of pairs alone would take a repeated pair for a missing one).
+    std::map<std::pair<int, int>, std::set<long>> pairedNodes;
+    std::map<std::pair<int, int>, long> pairCount;
     for (const InterfacePatch& ip : fm.interfaces) {
-        paired[{ip.blockA, ip.faceA}] += static_cast<long>(ip.nodes.size());
-        paired[{ip.blockB, ip.faceB}] += static_cast<long>(ip.nodes.size());
+        for (const auto& pr : ip.nodes) {
+            pairedNodes[{ip.blockA, ip.faceA}].insert(pr[0]);
+            pairedNodes[{ip.blockB, ip.faceB}].insert(pr[1]);
+        }
+        pairCount[{ip.blockA, ip.faceA}] += static_cast<long>(ip.nodes.size());
+        pairCount[{ip.blockB, ip.faceB}] += static_cast<long>(ip.nodes.size());
     }
     for (int b = 0; b < nb; ++b) {
         const FlowBlock& blk = fm.blocks[b];
         for (int f = 0; f < 6; ++f) {
             if (blk.faces[f].kind != mesh::BoundaryKind::Interface) continue;
             const long expected = static_cast<long>(faceNodes(blk.dims, f).size());
-            const long got = paired.count({b, f}) ? paired[{b, f}] : 0;
-            if (got != expected) {
+            const long got = pairedNodes.count({b, f}) ? static_cast<long>(pairedNodes[{b, f}].size()) : 0;
+            const long pairTotal = pairCount.count({b, f}) ? pairCount[{b, f}] : 0;
+            if (got != expected || pairTotal != got) {
                 throw GeometryError("flow: " + faceLabel(blk, b, f) + " is an interface but " +
                                     std::to_string(got) + " of its " + std::to_string(expected) +
-                                    " nodes have an interface partner");
+                                    " nodes have an interface partner" +
+                                    (pairTotal != got ? " (" + std::to_string(pairTotal) +
+                                                        " pairs: a node is paired more than once)"
+                                                  : std::string()));
             }
         }
     }
