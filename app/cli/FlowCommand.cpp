@@ -154,6 +154,11 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                           fr.residualOptions.dissipation.lumping, rep.lumping);
             say(buf);
         }
+        if (rep.approximateFrom > 0) {
+            say("note: from iteration " + std::to_string(first + rep.approximateFrom) +
+                " approximate-Newton steps took over: the Newton steps did not recover from a failed linear solve within " +
+                std::to_string(run.flow.newton.recoveryIterations) + " iterations (flow.exact_recovery_iterations)");
+        }
         const flow::ForceCoefficients& f = fr.forces;
         std::snprintf(buf, sizeof buf, "CL %.6f  CD %.6f  CM %.6f  CY %.6f  max |s - s_inf| %.3e  max Mach %.3f", f.CL, f.CD,
                       f.CM, f.CY, std::abs(fr.maxEntropy.value), fr.maxMach.value);
@@ -256,6 +261,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["total_iterations"] = first + rep.iterations;
             j["linear_iterations"] = rep.linearIterations;
             j["lumping"] = rep.lumping;
+            j["approximate_from"] = rep.approximateFrom > 0 ? first + rep.approximateFrom : 0;
             j["initial_residual"] = rep.initialResidual;
             j["final_residual"] = rep.finalResidual;
             j["CL"] = f.CL;

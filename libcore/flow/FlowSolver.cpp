@@ -251,12 +251,18 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
                                  // an exact step fails)
     int windowStart = 0;         // history index from which the approximate steps are judged
+    // After an exact step's GMRES failure the exact steps that follow have recoveryIterations
+    // to reach a new best residual; if they do not, approximate steps take over until they crawl
+    // (NewtonOptions::recoveryIterations).
+    int failedAt = -1;           // iteration of the exact failure being watched (-1: none)
+    double bestAtFailure = 0;    // the best residual then
+    bool approximateAfterFailure = false;
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
         const double cfl = law.next(Rn, R0);
-        bool exact = newton || Rn <= opt.exactBelow * R0;
+        bool exact = newton || (!approximateAfterFailure && Rn <= opt.exactBelow * R0);
         system.assemble(q.data(), r.data(), cfl, exact);
         FlowIteration rec;
         std::string why;             // why the step was rejected
@@ -321,6 +327,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             // The exact system was too hard for the preconditioner at this CFL: take an
             // approximate-Newton step instead before cutting the CFL; a crawl of approximate
             // steps has to show itself again before the next exact one.
+            if (linearFailed && failedAt < 0 && !approximateAfterFailure && opt.recoveryIterations > 0) {
+                failedAt = it;
+                bestAtFailure = best;
+            }
             exact = false;
             newton = false;
             windowStart = static_cast<int>(rep.history.size()) + 1;
@@ -376,6 +386,22 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                                                    " iterations at relative residual " + sci(Rn / R0));
         }
         cflHigh = std::max(cflHigh, cfl);
+        if (failedAt > 0) {
+            if (Rn < 0.99 * bestAtFailure) {
+                failedAt = -1;  // the exact steps recovered
+            } else if (it - failedAt >= opt.recoveryIterations) {
+                // They did not: on a fine grid, exact pseudo-transient steps at CFL 70-300 after
+                // the failure wander (the 903k half-sphere stalled so), while approximate ones,
+                // more dissipative, climb to a high CFL and hand back to Newton. The stall
+                // window restarts for them, once per run.
+                failedAt = -1;
+                approximateAfterFailure = true;
+                newton = false;
+                windowStart = static_cast<int>(rep.history.size());
+                if (rep.approximateFrom == 0) bestIteration = it;
+                rep.approximateFrom = it + 1;
+            }
+        }
         if (!newton && !exact && cfl >= opt.exactCfl && opt.slowWindow > 0) {
             // Hand a crawling approximate-Newton iteration to Newton: the last slowWindow steps
             // all full, at CFL >= exactCfl, and together reducing ||R|| by less than

@@ -9,7 +9,9 @@
 // the approximate Jacobian (lumped first-order dissipation, frozen coefficients) plus V/dt; the
 // system matrix is that approximate Jacobian itself in the start-up (cheap products) and the
 // exact one (Jacobian-vector products by complex step, Jacobian.h) once the residual is below
-// exactBelow or the approximate steps crawl (NewtonOptions).
+// exactBelow or the approximate steps crawl (NewtonOptions); after an exact step's linear solve
+// fails, exact steps that do not reach a new best residual within recoveryIterations hand over
+// to approximate ones again.
 // The solver never returns a silent wrong answer: the report says why it stopped.
 #include <atomic>
 #include <functional>
@@ -78,6 +80,14 @@ struct NewtonOptions {
     int slowWindow = 5;                // this many full steps in a row: a defect correction with
                                        // the approximate Jacobian that crawls (0.98 per iteration
                                        // on the 307k half-sphere) is handed to Newton
+    int recoveryIterations = 10;       // after an exact step's GMRES failure, the exact steps that
+                                       // follow have this many iterations to reach a new best
+                                       // residual; if they do not, approximate steps (the
+                                       // approximate Jacobian as the system matrix) take over until
+                                       // they crawl and the crawl test hands back to Newton, and the
+                                       // stall window restarts (once per run). The 903k half-sphere
+                                       // stalled without it; a 14k design whose exact steps recover
+                                       // in 3 iterations needs them (docs/validation.md). 0: never
     double referenceResidual = 0;      // ||R0|| of the run this one continues (restart): tolerances,
                                        // exactBelow and the CFL law refer to it; 0: this run's own
     double maxLumping = 16;            // when GMRES fails on the lumped system, its lumping factor
@@ -122,6 +132,9 @@ struct FlowReport {
     double cflBase = 0;           // the CFL law's base at the end (a restart continues with it)
     double lumping = 0;           // the preconditioner's lumping factor at the end (raised from
                                   // the option's when GMRES failed on the lumped system)
+    int approximateFrom = 0;      // the iteration from which approximate steps took over because
+                                  // the exact ones did not recover from a failed linear solve
+                                  // (NewtonOptions::recoveryIterations; 0: they did not)
     bool converged() const { return status == FlowStatus::Converged; }
 };
 

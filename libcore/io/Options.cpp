@@ -183,6 +183,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         o.push_back(integer<FlowCase>("stall_iterations", 2, 100000,
                                       [](FlowCase& c) -> int& { return c.newton.stallIterations; },
                                       "stop as stalled after this many iterations without a new best residual or a new highest CFL"));
+        o.push_back(integer<FlowCase>("exact_recovery_iterations", 0, 100000,
+                                      [](FlowCase& c) -> int& { return c.newton.recoveryIterations; },
+                                      "after a Newton step's linear solve fails, the Newton steps that follow have this many "
+                                      "iterations to reach a new best residual; if they do not, approximate-Newton steps take "
+                                      "over until they crawl (0: never)"));
         o.push_back(real<FlowCase>("cfl0", "", 0, false, 1e12, false, [](FlowCase& c) -> double& { return c.newton.cfl0; },
                                    "initial CFL number (the CFL also grows as R0/R)"));
         o.push_back(real<FlowCase>("cfl_growth", "", 1, true, 100, false,

@@ -127,6 +127,59 @@ TEST(FlowSolver, HandsACrawlingApproximatePhaseToNewton) {
     EXPECT_LE(newton.iterations, plain.iterations);
 }
 
+TEST(FlowSolver, ExactStepsThatDoNotRecoverFromAFailureHandOverToApproximateOnes) {
+    // A failed exact step falls back to one approximate step; the exact steps that follow get
+    // recoveryIterations to reach a new best residual, and when they do not, approximate steps
+    // take over until the crawl test hands them back to Newton (on the 903k half-sphere the exact
+    // steps after a failure wandered at CFL 70-300 and stalled; the approximate ones converged
+    // it; docs/validation.md). Provoked here on the coarse half-sphere at Mach 0.75 with GMRES
+    // cut to 15 iterations per step, so that exact steps fail and the residual wanders; the
+    // test checks the rule, not convergence (this case does not converge either way).
+    const testing::FlowCase& c = testing::halfSphere(0.3);
+    ResidualOptions o;
+    o.freeStream.mach = 0.75;
+    o.freeStream.alphaDeg = 1.2;
+    NewtonOptions n;
+    n.gmresRestart = 15;
+    n.gmresMaxIterations = 15;
+    n.gmresDeflation = 0;
+    n.cflGrowth = 2.5;
+    n.maxIterations = 50;
+    n.recoveryIterations = 10;
+    std::vector<double> q;
+    const FlowReport rep = solve(c, o, q, n);
+    std::printf("%s; approximate steps from iteration %d\n", rep.message.c_str(), rep.approximateFrom);
+    ASSERT_GT(rep.approximateFrom, 0) << "the exact steps always recovered: the test does not test the hand-over";
+    const auto& h = rep.history;
+    const std::size_t from = static_cast<std::size_t>(rep.approximateFrom - 1);  // history index
+    ASSERT_LT(from, h.size());
+    // Before the hand-over: the failure (an approximate step right after an exact one), then
+    // recoveryIterations iterations with no new best residual.
+    std::size_t fail = from - 1;
+    while (fail > 0 && !(h[fail - 1].exact && !h[fail].exact)) --fail;
+    ASSERT_GT(fail, 0u) << "no failed exact step before the hand-over";
+    EXPECT_EQ(from - fail, static_cast<std::size_t>(n.recoveryIterations + 1));
+    double bestBefore = h[0].residual;
+    for (std::size_t i = 0; i < fail; ++i) bestBefore = std::min(bestBefore, h[i].residual);
+    for (std::size_t i = fail + 1; i < from; ++i) {
+        EXPECT_GE(h[i].residual, 0.99 * bestBefore) << "iteration " << h[i].iteration << ": a new best, no hand-over due";
+    }
+    // After it: approximate steps only (the crawl test needs full steps at CFL >= 1e6 to hand
+    // back to Newton, which this run does not reach).
+    for (std::size_t i = from; i < h.size(); ++i) EXPECT_FALSE(h[i].exact) << "iteration " << h[i].iteration;
+
+    // With recoveryIterations 0 the same run never hands over: exact steps follow every failure.
+    n.recoveryIterations = 0;
+    q.clear();
+    const FlowReport never = solve(c, o, q, n);
+    EXPECT_EQ(never.approximateFrom, 0);
+    int exactAfterFailure = 0;
+    for (std::size_t i = 2; i < never.history.size(); ++i) {
+        if (never.history[i - 2].exact && !never.history[i - 1].exact && never.history[i].exact) ++exactAfterFailure;
+    }
+    EXPECT_GT(exactAfterFailure, 0);
+}
+
 TEST(FlowSolver, LocalCflKeepsOneStiffNodeFromHoldingTheWholeStep) {
     // A smooth disturbance plus one node at a hundredth of its pressure: the steps that fill it
     // change it by far more than the 30 % limit. With one global step scale the whole field
