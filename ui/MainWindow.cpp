@@ -13,7 +13,6 @@
 #include <QFontMetrics>
 #include <QImage>
 #include <QLabel>
-#include <QLocale>
 #include <QMenu>
 #include <QMessageBox>
 #include <QMimeData>
@@ -23,7 +22,6 @@
 #include <QTreeWidgetItem>
 #include <QUndoStack>
 #include <QUrl>
-#include <cmath>
 
 #include "ActionSet.h"
 #include "Autosave.h"
@@ -59,11 +57,11 @@
 #include "SectionView.h"
 #include "Selection.h"
 #include "SensitivityRunner.h"
+#include "SensitivityWorkspace.h"
 #include "SurfaceFieldScene.h"
 #include "Text.h"
 #include "VtkViewport.h"
 #include "common/Error.h"
-#include "ffd/Embedding.h"
 #include "io/CaseFile.h"
 
 namespace aero::ui {
@@ -71,7 +69,6 @@ namespace aero::ui {
 namespace {
 
 const char* const kAppName = "Aeroform";
-constexpr int kArrowSamples = 7;        // sensitivity arrows per patch and direction
 constexpr int kQuitWaitMs = 120000;     // how long quitting waits for stopped jobs
 
 QDockWidget* dock(QMainWindow* window, const QString& title, const char* name, QWidget* content, bool scroll) {
@@ -148,7 +145,15 @@ MainWindow::MainWindow(const Options& options, QWidget* parent) : QMainWindow(pa
             findChild<QDockWidget*>(QString::fromLatin1(name))->toggleViewAction());
     connectActions();
     connectDocument();
-    connectSensitivities();
+    sensitivity_ = new SensitivityWorkspace(document_, sensitivities_, &flow_->runner(), optimization_, *actions_,
+                                            {viewport_, scene_.get(), lattices_.get(), overlay_.get(),
+                                             gradientArrows_.get(), surfaceField_.get(), variables_, tree_,
+                                             predictionLabel_},
+                                            this);
+    connect(sensitivity_, &SensitivityWorkspace::message, this,
+            [this](const QString& text, int timeoutMs) { statusBar()->showMessage(text, timeoutMs); });
+    connect(sensitivities_, &SensitivityRunner::stateChanged, this, &MainWindow::updateActions);
+    connect(sensitivities_, &SensitivityRunner::resultChanged, this, &MainWindow::updateActions);
     if (options_.autosave) {
         autosaver_ = new Autosaver(document_,
                                    options_.autosaveDirectory.isEmpty() ? Autosaver::defaultDirectory()
@@ -238,7 +243,7 @@ void MainWindow::createDocks() {
     });
     connect(tree_, &ModelTree::patchVisibilityChanged, this, [this](int p, bool on) {
         scene_->setPatchVisible(p, on);
-        updateSensitivity();
+        sensitivity_->updateShapeArrows();
         viewport_->requestRender();
     });
     connect(tree_, &ModelTree::latticesVisibilityChanged, this, [this](bool on) { actions_->lattices->setChecked(on); });
@@ -339,7 +344,7 @@ void MainWindow::connectActions() {
     });
     toggle(a.sensitivity, false, [this](bool on) {
         variables_->setSensitivityShown(on);
-        updateSensitivity();
+        sensitivity_->updateShapeArrows();
     });
     toggle(a.orientationAxes, viewport_->orientationAxesVisible(), [this](bool on) { viewport_->setOrientationAxesVisible(on); });
     connect(a.resetCamera, &QAction::triggered, this, [this] {
@@ -358,11 +363,11 @@ void MainWindow::connectActions() {
     QAction* sensitivity = a.sensitivity;
     connect(variables_, &DesignVariablePanel::sensitivityToggled, sensitivity, &QAction::setChecked);
     connect(variables_, &DesignVariablePanel::sensitivityToggled, this, [this] {
-        updateSensitivity();
+        sensitivity_->updateShapeArrows();
         viewport_->requestRender();
     });
     connect(variables_, &DesignVariablePanel::currentVariableChanged, this, [this] {
-        updateSensitivity();
+        sensitivity_->updateShapeArrows();
         viewport_->requestRender();
     });
 
@@ -434,7 +439,7 @@ void MainWindow::connectDocument() {
         else if (selection_->kind() == Selection::Kind::LatticePoints)
             selection_->selectLattice(l);
         updateSummary();
-        updateSensitivity();
+        sensitivity_->updateShapeArrows();
         updateActions();
     });
     connect(document_, &Document::diagnosticsChanged, this, &MainWindow::updateDiagnostics);
@@ -525,7 +530,7 @@ void MainWindow::onReset() {
     for (int p = 0; p < scene_->patchCount(); ++p) scene_->setPatchVisible(p, true);
     updateLatticeScene();
     updateDiagnostics();
-    updateSensitivity();
+    sensitivity_->updateShapeArrows();
     updateSummary();
     updateTitle();
     updateActions();
@@ -536,7 +541,7 @@ void MainWindow::onReset() {
 
 void MainWindow::onShapeChanged(const QVector<int>& patches) {
     scene_->updatePatches(document_->shape(), std::vector<int>(patches.begin(), patches.end()));
-    if (actions_->sensitivity->isChecked()) updateSensitivity();
+    if (actions_->sensitivity->isChecked()) sensitivity_->updateShapeArrows();
     viewport_->requestRender();
 }
 
@@ -586,185 +591,6 @@ void MainWindow::updateDiagnostics() {
 
 QString MainWindow::problemText() const {
     return document_->problems().join(QLatin1Char('\n'));
-}
-
-void MainWindow::updateSensitivity() {
-    const int var = variables_->currentVariable();
-    const ffd::FfdModel* model = document_->model();
-    const bool on = actions_->sensitivity->isChecked();
-    if (!on || !model || var < 0 || var >= model->design().size()) {
-        overlay_->clearArrows();
-        variables_->setSensitivityNote(on && model ? tr("Select a variable to see its arrows.") : QString());
-        return;
-    }
-    const geometry::PatchSet derivative = document_->shapeDerivative(var);
-    std::vector<char> hidden(static_cast<std::size_t>(scene_->patchCount()), 0);
-    for (int p = 0; p < scene_->patchCount(); ++p) hidden[static_cast<std::size_t>(p)] = scene_->patchVisible(p) ? 0 : 1;
-    std::vector<double> points, vectors;
-    const double largest = sensitivityField(document_->shape(), derivative, kArrowSamples, hidden, points, vectors);
-    const auto b = scene_->bounds();
-    const double size = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
-    const double length = 0.1 * size;
-    overlay_->setArrows(points, vectors, length);
-    const QString name = QString::fromStdString(model->design().variables()[static_cast<std::size_t>(var)].name);
-    variables_->setSensitivityNote(
-        largest > 0 ? tr("Arrows: dS/dv of %1; the longest is %2 (drawn %3 long).").arg(name).arg(largest, 0, 'g', 3).arg(length, 0, 'g', 2)
-                    : tr("%1 does not move the surface.").arg(name));
-}
-
-// ---- Design sensitivities -------------------------------------------------------------------------
-
-void MainWindow::connectSensitivities() {
-    const ActionSet& a = *actions_;
-    auto show = [this](const QString& text, int timeoutMs) { statusBar()->showMessage(text, timeoutMs); };
-    auto compute = [this, show] {
-        QString error;
-        if (!sensitivities_->start(&error)) show(error, 8000);
-    };
-    auto confirm = [this, show] {
-        QString error;
-        if (!sensitivities_->confirm(&error)) show(error, 8000);
-    };
-    connect(a.computeSensitivities, &QAction::triggered, this, compute);
-    connect(variables_, &DesignVariablePanel::computeGradientRequested, this, compute);
-    connect(a.cancelSensitivities, &QAction::triggered, sensitivities_, &SensitivityRunner::cancel);
-    connect(a.confirmPrediction, &QAction::triggered, this, confirm);
-    connect(variables_, &DesignVariablePanel::confirmRequested, this, confirm);
-    connect(sensitivities_, &SensitivityRunner::message, this, show);
-    connect(sensitivities_, &SensitivityRunner::stateChanged, this, [this] {
-        updateGradient();
-        updateActions();
-    });
-    connect(sensitivities_, &SensitivityRunner::resultChanged, this, [this] {
-        updateGradient();
-        updateActions();
-    });
-    connect(sensitivities_, &SensitivityRunner::outdatedChanged, this, &MainWindow::updateGradient);
-    connect(sensitivities_, &SensitivityRunner::predictionChanged, this, &MainWindow::updatePrediction);
-    connect(&flow_->runner(), &FlowRunner::stateChanged, this, &MainWindow::updatePrediction);
-    connect(document_, &Document::latticesMoved, this, &MainWindow::updateGradientArrows);
-    connect(document_, &Document::structureChanged, this, &MainWindow::updateGradient);
-    connect(a.gradientArrows, &QAction::toggled, this, &MainWindow::updateGradientArrows);
-    // The objective: the case's optimization objective when it has one, or a force coefficient.
-    auto fillObjectives = [this] {
-        const io::CaseFile& c = document_->caseFile();
-        QStringList items;
-        if (c.optimization.present)
-            items << tr("Case: %1 %2").arg(c.optimization.maximize ? tr("maximize") : tr("minimize"),
-                                           QString::fromStdString(c.optimization.objective));
-        items << tr("Maximize CL/CD") << tr("Maximize CL") << tr("Minimize CD");
-        sensitivities_->setObjective(std::nullopt);  // a new project, or its objective changed
-        variables_->setObjectiveChoices(items, 0);
-    };
-    connect(document_, &Document::reset, this, fillObjectives);
-    connect(document_, &Document::optimizationOptionsChanged, this, fillObjectives);
-    connect(variables_, &DesignVariablePanel::objectiveChosen, this, [this](int index) {
-        const int fixed = index - (document_->caseFile().optimization.present ? 1 : 0);
-        static const Objective kFixed[] = {{"CL/CD", true}, {"CL", true}, {"CD", false}};
-        sensitivities_->setObjective(fixed >= 0 && fixed < 3 ? std::optional<Objective>(kFixed[fixed]) : std::nullopt);
-        updateGradient();
-    });
-    fillObjectives();
-    connect(a.surfaceSensitivity, &QAction::toggled, this, &MainWindow::updateSurfaceSensitivity);
-    connect(document_, &Document::shapeChanged, this, [this] {
-        if (surfaceField_->shown()) updateSurfaceSensitivity();
-    });
-    connect(tree_, &ModelTree::patchVisibilityChanged, this, &MainWindow::updateSurfaceSensitivity);
-    connect(optimization_, &OptimizationWorkspace::viewShownChanged, this, &MainWindow::updateSurfaceSensitivity);
-    connect(a.lattices, &QAction::toggled, this, &MainWindow::updateGradientArrows);
-    connect(tree_, &ModelTree::latticeVisibilityChanged, this, &MainWindow::updateGradientArrows);
-    updateGradient();
-}
-
-void MainWindow::updateGradient() {
-    const auto r = sensitivities_->result();
-    if (!r) {
-        QString note;
-        if (sensitivities_->state() == SensitivityRunner::State::Running)
-            note = tr("Computing the gradient of %1...").arg(QString::fromStdString(sensitivities_->objective().name));
-        else if (sensitivities_->state() == SensitivityRunner::State::Failed)
-            note = tr("No gradient: %1").arg(sensitivities_->reason());
-        variables_->clearGradient(note);
-    } else {
-        const QString name = QString::fromStdString(r->objective.name);
-        const QString sense = r->objective.maximize ? tr("maximized") : tr("minimized");
-        QString note = sensitivities_->outdated()
-                           ? tr("d%1/dv at an earlier design (%1 = %2, %3): the design changed since; compute again "
-                                "for the design as shown.")
-                                 .arg(name, QLocale().toString(r->J, 'g', 5), sense)
-                           : tr("d%1/dv of the design as shown (%1 = %2, %3); green arrows at the lattice points show "
-                                "which way improves it.")
-                                 .arg(name, QLocale().toString(r->J, 'g', 5), sense);
-        if (sensitivities_->state() == SensitivityRunner::State::Running) note += tr(" Computing again...");
-        variables_->setGradient(r->dv, name, !sensitivities_->outdated(), note);
-    }
-    updateGradientArrows();
-    updateSurfaceSensitivity();
-    updatePrediction();
-}
-
-void MainWindow::updateSurfaceSensitivity() {
-    const auto r = sensitivities_->result();
-    const ffd::FfdModel* model = document_->model();
-    if (!r || !model || !actions_->surfaceSensitivity->isChecked() || optimization_->viewShown() ||
-        r->dUnique.size() != 3 * static_cast<std::size_t>(model->index().uniqueCount()) ||
-        document_->baseline().size() != scene_->patchCount()) {
-        surfaceField_->clear();
-        viewport_->requestRender();
-        return;
-    }
-    // dJ/dA as the control points of the baseline's nets (knots and weights), sampled where the
-    // wall is drawn, along the drawn wall's outward normals.
-    geometry::PatchSet nets = document_->baseline();
-    ffd::scatter(model->index(), r->dUnique, nets);
-    const auto b = scene_->bounds();
-    const std::array<double, 3> centre{(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2};
-    std::vector<SurfaceFieldScene::Piece> pieces;
-    for (int p = 0; p < scene_->patchCount(); ++p) {
-        if (!scene_->patchVisible(p)) continue;
-        PatchScene::SurfaceMesh mesh = scene_->surfaceMesh(p);
-        SurfaceFieldScene::Piece piece;
-        const std::vector<double> normals = outwardNormals(mesh.points, mesh.triangles, centre);
-        piece.values = normalSensitivity(nets.patches[static_cast<std::size_t>(p)], mesh.uv, normals);
-        piece.points = std::move(mesh.points);
-        piece.triangles = std::move(mesh.triangles);
-        pieces.push_back(std::move(piece));
-    }
-    const std::string name = r->objective.name;
-    surfaceField_->setField(pieces, "d" + name + "/dA \u00b7 n\n(n outward)");
-    viewport_->requestRender();
-}
-
-void MainWindow::updateGradientArrows() {
-    const auto r = sensitivities_->result();
-    const auto& moved = document_->lattices();
-    if (!r || !actions_->gradientArrows->isChecked() || !actions_->lattices->isChecked() || optimization_->viewShown() ||
-        r->dLattice.size() != moved.size()) {
-        gradientArrows_->clearArrows();
-        viewport_->requestRender();
-        return;
-    }
-    // At the lattice points as shown, towards a better objective.
-    const double sign = r->objective.maximize ? 1.0 : -1.0;
-    std::vector<double> points, vectors;
-    for (std::size_t l = 0; l < moved.size(); ++l) {
-        if (!lattices_->latticeVisible(static_cast<int>(l)) || r->dLattice[l].size() != moved[l].points.size()) continue;
-        points.insert(points.end(), moved[l].points.begin(), moved[l].points.end());
-        for (double g : r->dLattice[l]) vectors.push_back(sign * g);
-    }
-    const auto b = scene_->bounds();
-    const double size = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
-    gradientArrows_->setArrows(points, vectors, 0.1 * size);
-    viewport_->requestRender();
-}
-
-void MainWindow::updatePrediction() {
-    const QString text = sensitivities_->predictionText();
-    const bool flowBusy = flow_->runner().running();
-    variables_->setPrediction(text, !flowBusy);
-    predictionLabel_->setText(text);
-    predictionLabel_->setVisible(!text.isEmpty());
-    actions_->confirmPrediction->setEnabled(sensitivities_->result() != nullptr && !flowBusy);
 }
 
 void MainWindow::updateSummary() {

@@ -9,7 +9,8 @@
 // The window assembles the parts and keeps the 3D view in step with the document (shapeChanged
 // -> re-sample those patches in place). Its other concerns live in their own files: project files
 // (ProjectFiles), exports (Exports), the mesh preview (MeshPreviewer), the flow solve and its
-// plots (FlowWorkspace), the optimization (OptimizationWorkspace), background work (JobRunner).
+// plots (FlowWorkspace), the optimization (OptimizationWorkspace), the design sensitivities
+// (SensitivityWorkspace), background work (JobRunner).
 // Quitting while a job runs asks first, then stops and waits for it.
 #include <QMainWindow>
 #include <QString>
@@ -45,6 +46,7 @@ class ProjectFiles;
 class PropertyPanel;
 class Selection;
 class SensitivityRunner;
+class SensitivityWorkspace;
 class SurfaceFieldScene;
 class VtkViewport;
 
@@ -97,6 +99,7 @@ class MainWindow : public QMainWindow {
     /// The arrows dJ/dB at the lattice points (after Flow > Compute Sensitivities).
     OverlayScene& gradientScene() const { return *gradientArrows_; }
     SensitivityRunner& sensitivities() const { return *sensitivities_; }
+    SensitivityWorkspace& sensitivity() const { return *sensitivity_; }
     /// The surface sensitivity dJ/dA . n on the wall (View > Surface Sensitivity).
     SurfaceFieldScene& surfaceSensitivityScene() const { return *surfaceField_; }
     Document& document() const { return *document_; }
@@ -134,14 +137,6 @@ class MainWindow : public QMainWindow {
     void updateTitle();
     void updateDiagnostics();
     void updateLatticeScene();
-    void updateSensitivity();
-    /// Flow > Compute Sensitivities: the runner's result in the design variable panel (dJ/dv),
-    /// the 3D view (dJ/dB arrows) and the prediction of the current design's J.
-    void connectSensitivities();
-    void updateGradient();
-    void updateGradientArrows();
-    void updatePrediction();
-    void updateSurfaceSensitivity();
     void updateActions();
     void onReset();
     void onShapeChanged(const QVector<int>& patches);
@@ -180,6 +175,7 @@ class MainWindow : public QMainWindow {
     FlowWorkspace* flow_ = nullptr;
     OptimizationWorkspace* optimization_ = nullptr;
     SensitivityRunner* sensitivities_ = nullptr;
+    SensitivityWorkspace* sensitivity_ = nullptr;  // shows the runner's result (and dS/dv)
     QLabel* predictionLabel_ = nullptr;
     ProjectFiles* files_ = nullptr;
     Exports* exports_ = nullptr;
