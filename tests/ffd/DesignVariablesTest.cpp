@@ -18,6 +18,7 @@
 #include <string>
 
 #include "common/Error.h"
+#include "ErrorMessage.h"
 
 using namespace aero;
 using namespace aero::ffd;
@@ -66,16 +67,6 @@ std::array<double, 3> centroid(const Lattice& L, const std::vector<int>& points)
     }
     for (double& x : c) x /= static_cast<double>(points.size());
     return c;
-}
-
-template <class F>
-std::string caseError(F f) {
-    try {
-        f();
-    } catch (const CaseError& e) {
-        return e.what();
-    }
-    return "";
 }
 
 }  // namespace
@@ -338,30 +329,30 @@ TEST(DesignVariables, BadInputIsACaseErrorNamingTheKey) {
     DesignSpace ds({L});
     StationSpec s = wingSpec();
     s.lattice = 1;
-    EXPECT_NE(caseError([&] { ds.addStations(s); }).find("design_variables.stations.lattice: no lattice 1"), std::string::npos);
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addStations(s); }).find("design_variables.stations.lattice: no lattice 1"), std::string::npos);
     s = wingSpec();
     s.direction = 3;
-    EXPECT_NE(caseError([&] { ds.addStations(s); }).find("design_variables.stations.direction: must be 0, 1 or 2, got 3"),
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addStations(s); }).find("design_variables.stations.direction: must be 0, 1 or 2, got 3"),
               std::string::npos);
     s = wingSpec();
     s.vertical = -1;
-    EXPECT_NE(caseError([&] { ds.addStations(s); }).find("vertical and streamwise axes"), std::string::npos);
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addStations(s); }).find("vertical and streamwise axes"), std::string::npos);
     s = wingSpec();
     s.bits.pop_back();
-    EXPECT_NE(caseError([&] { ds.addStations(s); }).find("design_variables.stations.bits: 3 bit strings for 4 stations"),
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addStations(s); }).find("design_variables.stations.bits: 3 bit strings for 4 stations"),
               std::string::npos);
     for (const std::string bad : {"0a1", "0011", "01", ""}) {
         s = wingSpec();
         s.bits[2] = bad;
-        const std::string m = caseError([&] { ds.addStations(s); });
+        const std::string m = aero::test::messageOf<CaseError>([&] { ds.addStations(s); });
         EXPECT_NE(m.find("design_variables.stations.bits[2]: expected three 0/1 digits (zyx), got '" + bad + "'"), std::string::npos)
             << m;
     }
-    EXPECT_NE(caseError([&] { ds.addPointCoordinate(0, 24, 0, -1, 1); }).find("no lattice point 24"), std::string::npos);
-    EXPECT_NE(caseError([&] { ds.addPointCoordinate(0, -1, 0, -1, 1); }).find("no lattice point -1"), std::string::npos);
-    EXPECT_NE(caseError([&] { ds.addPointCoordinate(0, 3, 3, -1, 1); }).find("axis 3"), std::string::npos);
-    EXPECT_NE(caseError([&] { ds.addPointCoordinate(1, 3, 0, -1, 1); }).find("in lattice 1"), std::string::npos);
-    const std::string m = caseError([&] { ds.addPointCoordinate(0, 3, 0, 0.1, 0.5); });
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addPointCoordinate(0, 24, 0, -1, 1); }).find("no lattice point 24"), std::string::npos);
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addPointCoordinate(0, -1, 0, -1, 1); }).find("no lattice point -1"), std::string::npos);
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addPointCoordinate(0, 3, 3, -1, 1); }).find("axis 3"), std::string::npos);
+    EXPECT_NE(aero::test::messageOf<CaseError>([&] { ds.addPointCoordinate(1, 3, 0, -1, 1); }).find("in lattice 1"), std::string::npos);
+    const std::string m = aero::test::messageOf<CaseError>([&] { ds.addPointCoordinate(0, 3, 0, 0.1, 0.5); });
     EXPECT_NE(m.find("lattice point 3"), std::string::npos) << m;
     EXPECT_NE(m.find("must contain 0"), std::string::npos) << m;
     EXPECT_NO_THROW(ds.addPointCoordinate(0, 3, 0, 0.0, 0.0));  // a closed interval at the baseline

@@ -14,6 +14,7 @@
 
 #include "common/Error.h"
 #include "FlowFixtures.h"
+#include "ErrorMessage.h"
 
 using namespace aero;
 using namespace aero::flow;
@@ -50,16 +51,6 @@ std::vector<NodePair> sideBySidePairs(std::array<int, 3> d) {
         for (int j = 0; j < d[1]; ++j) pairs.push_back({0, local(d, d[0] - 1, j, k), 1, local(d, 0, j, k)});
     }
     return pairs;
-}
-
-template <class F>
-std::string errorOf(F f) {
-    try {
-        f();
-    } catch (const GeometryError& e) {
-        return e.what();
-    }
-    return "";
 }
 
 }  // namespace
@@ -275,7 +266,7 @@ TEST(FlowMesh, RejectsBlocksAndPairsThatDoNotFitNamingBlockAndFace) {
     // A block one node thin.
     {
         std::vector<FlowBlock> blocks{block("A", d), block("thin", {3, 1, 2})};
-        const std::string m = errorOf([&] { makeFlowMesh(blocks, {}); });
+        const std::string m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(blocks, {}); });
         EXPECT_NE(m.find("block 2 ('thin')"), std::string::npos) << m;
         EXPECT_NE(m.find("at least 2 nodes"), std::string::npos) << m;
     }
@@ -283,15 +274,15 @@ TEST(FlowMesh, RejectsBlocksAndPairsThatDoNotFitNamingBlockAndFace) {
     {
         std::vector<NodePair> pairs = sideBySidePairs(d);
         pairs[3].blockB = 2;
-        EXPECT_NE(errorOf([&] { makeFlowMesh(sideBySide(d), pairs); }).find("does not exist"), std::string::npos);
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { makeFlowMesh(sideBySide(d), pairs); }).find("does not exist"), std::string::npos);
         pairs[3].blockB = -1;
-        EXPECT_NE(errorOf([&] { makeFlowMesh(sideBySide(d), pairs); }).find("does not exist"), std::string::npos);
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { makeFlowMesh(sideBySide(d), pairs); }).find("does not exist"), std::string::npos);
     }
     // A pair whose node of A is not on the interface face (i = 1 instead of i = 2).
     {
         std::vector<NodePair> pairs = sideBySidePairs(d);
         pairs[5].nodeA = local(d, 1, 1, 1);
-        const std::string m = errorOf([&] { makeFlowMesh(sideBySide(d), pairs); });
+        const std::string m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(sideBySide(d), pairs); });
         EXPECT_NE(m.find("interface node " + std::to_string(local(d, 1, 1, 1))), std::string::npos) << m;
         EXPECT_NE(m.find("block 1 ('A')"), std::string::npos) << m;
         EXPECT_NE(m.find("against block 2 ('B')"), std::string::npos) << m;
@@ -301,7 +292,7 @@ TEST(FlowMesh, RejectsBlocksAndPairsThatDoNotFitNamingBlockAndFace) {
     {
         std::vector<NodePair> pairs = sideBySidePairs(d);
         pairs.pop_back();
-        const std::string m = errorOf([&] { makeFlowMesh(sideBySide(d), pairs); });
+        const std::string m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(sideBySide(d), pairs); });
         EXPECT_NE(m.find("block 1 ('A') face 1 is an interface but 7 of its 8 nodes"), std::string::npos) << m;
     }
     // A node on the edge of two interface faces joining the same blocks: ambiguous.
@@ -311,7 +302,7 @@ TEST(FlowMesh, RejectsBlocksAndPairsThatDoNotFitNamingBlockAndFace) {
         blocks[1].faces[3] = {BoundaryKind::Interface, 0, 3};
         std::vector<NodePair> pairs = sideBySidePairs(d);
         pairs.insert(pairs.begin(), {0, local(d, 2, 3, 0), 1, local(d, 0, 3, 0)});  // on faces 1 and 3 of both
-        const std::string m = errorOf([&] { makeFlowMesh(blocks, pairs); });
+        const std::string m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(blocks, pairs); });
         EXPECT_NE(m.find("lies on several interface faces"), std::string::npos) << m;
     }
     // A face declared as an interface to a block whose pairs go elsewhere: no pairs at all.
@@ -319,7 +310,7 @@ TEST(FlowMesh, RejectsBlocksAndPairsThatDoNotFitNamingBlockAndFace) {
         std::vector<FlowBlock> blocks = sideBySide(d);
         blocks[0].faces[4] = {BoundaryKind::Interface, 1, 5};
         blocks[1].faces[5] = {BoundaryKind::Interface, 0, 4};
-        const std::string m = errorOf([&] { makeFlowMesh(blocks, sideBySidePairs(d)); });
+        const std::string m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(blocks, sideBySidePairs(d)); });
         EXPECT_NE(m.find("block 1 ('A') face 4 is an interface but 0 of its 12 nodes"), std::string::npos) << m;
     }
 }
@@ -331,13 +322,13 @@ TEST(FlowMesh, RejectsAnInterfaceFaceWithARepeatedPair) {
     const std::array<int, 3> d{3, 4, 2};
     std::vector<NodePair> pairs = sideBySidePairs(d);
     pairs.back() = pairs.front();
-    std::string m = errorOf([&] { makeFlowMesh(sideBySide(d), pairs); });
+    std::string m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(sideBySide(d), pairs); });
     EXPECT_NE(m.find("block 1 ('A') face 1 is an interface but 7 of its 8 nodes have an interface partner (8 pairs"),
               std::string::npos)
         << "message: '" << m << "'";
     pairs = sideBySidePairs(d);
     pairs.push_back(pairs[3]);
-    m = errorOf([&] { makeFlowMesh(sideBySide(d), pairs); });
+    m = aero::test::messageOf<GeometryError>([&] { makeFlowMesh(sideBySide(d), pairs); });
     EXPECT_NE(m.find("block 1 ('A') face 1 is an interface but 8 of its 8 nodes have an interface partner (9 pairs: a node is "
                      "paired more than once)"),
               std::string::npos)
@@ -363,12 +354,12 @@ TEST(FlowMesh, GathersCoordinatesInTheGlobalOrderAndChecksTheGrids) {
     EXPECT_EQ(x[3 * 20 - 1], 1023.0);
 
     grids[1].dims = {2, 4, 1};  // as many nodes, another shape
-    const std::string m = errorOf([&] { gatherCoordinates(fm, grids); });
+    const std::string m = aero::test::messageOf<GeometryError>([&] { gatherCoordinates(fm, grids); });
     EXPECT_NE(m.find("block 2 ('b')"), std::string::npos) << m;
 
     mesh::MultiBlockMesh one;
     one.blocks.resize(1);
-    EXPECT_NE(errorOf([&] { makeFlowMesh(one, grids); }).find("2 grids for 1 mesh blocks"), std::string::npos);
+    EXPECT_NE(aero::test::messageOf<GeometryError>([&] { makeFlowMesh(one, grids); }).find("2 grids for 1 mesh blocks"), std::string::npos);
 }
 
 TEST(FlowMesh, BlockGroupsSplitConsecutiveBlocksByNodeCount) {

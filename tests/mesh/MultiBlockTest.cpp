@@ -15,6 +15,7 @@
 #include <string>
 
 #include "common/Error.h"
+#include "ErrorMessage.h"
 
 using namespace aero;
 using namespace aero::mesh;
@@ -87,16 +88,6 @@ Eigen::Vector3d gridParameter(const MultiBlockMesh& m, int blk, int i, int j, in
     const auto& s = m.blocks[blk].samples;
     if (blk == 0) return {s[0][i], s[1][j], s[2][k]};
     return {1.0 + s[0][i], 1.0 - s[2][k], s[1][j]};
-}
-
-template <class F>
-std::string geometryError(F f) {
-    try {
-        f();
-    } catch (const GeometryError& e) {
-        return e.what();
-    }
-    return "";
 }
 
 }  // namespace
@@ -244,7 +235,7 @@ TEST(MultiBlock, MatchingHonoursTheToleranceAcrossHashCells) {
 TEST(MultiBlock, MatchingRefusesFacesOfDifferentSizes) {
     MultiBlockMesh m = twoBlocks();
     m.blocks[1].samples[1] = {0, 0.4, 0.8, 1};  // B's interface face gets a row more than A's
-    const std::string s = geometryError([&] { matchInterfaces(m, regenerateAll(m)); });
+    const std::string s = aero::test::messageOf<GeometryError>([&] { matchInterfaces(m, regenerateAll(m)); });
     EXPECT_NE(s.find("mismatched interface between block 1 ('A') face 1 and block 2 ('B') face 0"), std::string::npos) << s;
     EXPECT_NE(s.find("(12 on the other side)"), std::string::npos) << s;
 }
@@ -282,41 +273,41 @@ TEST(MultiBlock, ValidateNamesTheBlockAndFaceOfEachInconsistency) {
     {
         MultiBlockMesh m = good;
         m.blocks[1].nodes.pop_back();
-        EXPECT_NE(geometryError([&] { validate(m); }).find("block 2 ('B'): 23 control nodes for a 4x2x3 net"), std::string::npos);
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); }).find("block 2 ('B'): 23 control nodes for a 4x2x3 net"), std::string::npos);
     }
     {
         MultiBlockMesh m = good;
         m.blocks[0].nodes[5] = 42;
-        EXPECT_NE(geometryError([&] { validate(m); }).find("block 1 ('A'): control node 42 does not exist"), std::string::npos);
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); }).find("block 1 ('A'): control node 42 does not exist"), std::string::npos);
         m.blocks[0].nodes[5] = -1;
-        EXPECT_NE(geometryError([&] { validate(m); }).find("control node -1 does not exist"), std::string::npos);
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); }).find("control node -1 does not exist"), std::string::npos);
     }
     {
         MultiBlockMesh m = good;
         m.blocks[1].faces[0].neighbourFace = 0;  // points at A's face 0, a wall
-        EXPECT_NE(geometryError([&] { validate(m); })
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); })
                       .find("block 1 ('A') face 1: interface is not mutual (block 2 face 0 does not point back)"),
                   std::string::npos);
     }
     {
         MultiBlockMesh m = good;
         m.blocks[0].faces[1].neighbour = 2;
-        EXPECT_NE(geometryError([&] { validate(m); }).find("block 1 ('A') face 1: interface to a block or face that does not exist"),
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); }).find("block 1 ('A') face 1: interface to a block or face that does not exist"),
                   std::string::npos);
         m = good;
         m.blocks[0].faces[1].neighbourFace = 6;
-        EXPECT_NE(geometryError([&] { validate(m); }).find("does not exist"), std::string::npos);
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); }).find("does not exist"), std::string::npos);
     }
     {
         MultiBlockMesh m = good;
         m.blocks[1].samples[2] = {0.5};
-        EXPECT_NE(geometryError([&] { validate(m); }).find("block 2 ('B'): fewer than 2 grid nodes in direction 2"),
+        EXPECT_NE(aero::test::messageOf<GeometryError>([&] { validate(m); }).find("block 2 ('B'): fewer than 2 grid nodes in direction 2"),
                   std::string::npos);
     }
     {
         MultiBlockMesh m = good;
         m.blocks[0].knots[1] = {0, 0, 0, 1, 1};  // one knot short for 3 points of degree 2
-        const std::string s = geometryError([&] { validate(m); });
+        const std::string s = aero::test::messageOf<GeometryError>([&] { validate(m); });
         EXPECT_NE(s.find("block 1 ('A') (eta direction)"), std::string::npos) << s;
     }
 }
