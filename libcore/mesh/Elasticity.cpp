@@ -4,7 +4,6 @@
 #include <array>
 #include <limits>
 #include <Eigen/Dense>
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
@@ -15,6 +14,7 @@
 
 #include "common/Error.h"
 #include "common/Scalar.h"
+#include "mesh/BlockCg.h"
 
 namespace aero::mesh {
 
@@ -250,9 +250,11 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
     for (int q = 0; q < 8; ++q) {
         T G[8][3];  // physical gradients G(a, c) = dN_a / dx_c
         const T det = gaussGradients(x, q, G);
-        // K_ab(i, j) += (lambda G_a,i G_b,j + mu G_a,j G_b,i + mu delta_ij G_a . G_b) det
+        // K_ab(i, j) += (lambda G_a,i G_b,j + mu G_a,j G_b,i + mu delta_ij G_a . G_b) det; the
+        // upper block triangle only (K_ba = K_ab^T, mirrored below: the same products, so the
+        // same bits as computing both).
         for (int a = 0; a < 8; ++a) {
-            for (int b = 0; b < 8; ++b) {
+            for (int b = a; b < 8; ++b) {
                 const T dot = G[a][0] * G[b][0] + G[a][1] * G[b][1] + G[a][2] * G[b][2];
                 for (int i = 0; i < 3; ++i) {
                     for (int j = 0; j < 3; ++j) {
@@ -261,6 +263,13 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
                         K[(3 * a + i) * 24 + 3 * b + j] += v * det;
                     }
                 }
+            }
+        }
+    }
+    for (int a = 0; a < 8; ++a) {
+        for (int b = 0; b < a; ++b) {
+            for (int i = 0; i < 3; ++i) {
+                for (int j = 0; j < 3; ++j) K[(3 * a + i) * 24 + 3 * b + j] = K[(3 * b + j) * 24 + 3 * a + i];
             }
         }
     }
@@ -361,94 +370,86 @@ CellList listCells(const MultiBlockMesh& m) {
     return l;
 }
 
-// The structure of K_ff for one control grid's topology and constraints, built once per move (or
-// mesh adjoint) and reused by every increment: the free DOFs, the compressed pattern, and where
-// each entry (r, c) of each cell's 24 x 24 matrix goes (a value slot, a right-hand-side term for a
-// constrained column, or nowhere for a constrained row). Assembly is then a parallel pass over the
-// cells' element matrices and one ordered scatter: no triplets sorted every increment, and the
-// same sums in the same order as Eigen's setFromTriplets (bitwise the same K).
+// The structure of K_ff for one control grid's topology and constraints, in 3x3 node blocks,
+// built once per move (or mesh adjoint) and reused by every increment with its buffers: the
+// block rows (nodes with at least one free DOF), the block pattern, and where each corner pair of
+// each cell goes. A node with some DOFs constrained (a symmetry-plane node: u_y = 0) keeps its
+// block row; the constrained component's row and column hold the identity and a zero right-hand
+// side, so the free DOFs see exactly K_ff. Assembly is a parallel pass over the cells' element
+// matrices and one scatter in cell order (the same sums in the same order every time: bitwise
+// reproducible whatever the thread count).
 struct StiffnessLayout {
     CellList cells;
-    std::vector<int> freeIndex;  // per DOF: its free index, -1 when constrained
-    int nfree = 0;
-    Eigen::SparseMatrix<double> pattern;  // K_ff's pattern (zero values), compressed
-    std::vector<int> slot;  // per cell, 24 x 24: >= 0 value index; -1 - g: column DOF g is
-                            // constrained (rhs); kNowhere: the row is constrained
-    static constexpr int kNowhere = std::numeric_limits<int>::min();
+    std::vector<char> constrained;  // per DOF
+    std::vector<int> freeIndex;     // per DOF: its index in the block system's vectors, -1 when constrained
+    std::vector<int> blockRow;      // per node: its block row, -1 when all three DOFs are constrained
+    int blockRows = 0;
+    std::vector<int> slot;  // per cell, 8 x 8 corner pairs: the block index, -1 when either node has no block row
+    // Buffers reused by every increment (no page faults for fresh allocations).
+    std::vector<double> elements;  // 576 per cell of one chunk of cells
+    Block3Matrix A;                // K_ff's pattern, and its values once assembled
+    std::vector<double> rhs;
+    BlockIncompleteCholesky preconditioner;
+    int size() const { return 3 * blockRows; }
 };
 
 StiffnessLayout makeLayout(const MultiBlockMesh& m, const std::vector<char>& constrained) {
     StiffnessLayout L;
     L.cells = listCells(m);
-    const int ndof = static_cast<int>(m.control.size());
-    L.freeIndex.assign(ndof, -1);
-    for (int d = 0; d < ndof; ++d) {
-        if (!constrained[d]) L.freeIndex[d] = L.nfree++;
+    L.constrained = constrained;
+    const int nodes = static_cast<int>(m.control.size() / 3);
+    L.blockRow.assign(nodes, -1);
+    L.freeIndex.assign(m.control.size(), -1);
+    for (int n = 0; n < nodes; ++n) {
+        if (constrained[3 * n] && constrained[3 * n + 1] && constrained[3 * n + 2]) continue;
+        L.blockRow[n] = L.blockRows++;
+        for (int c = 0; c < 3; ++c) {
+            if (!constrained[3 * n + c]) L.freeIndex[3 * n + c] = 3 * L.blockRow[n] + c;
+        }
     }
     const long cells = L.cells.count();
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(cells) * 300);
+    std::vector<std::vector<int>> columns(L.blockRows);
     for (long c = 0; c < cells; ++c) {
-        const int* nodes = &L.cells.nodes[8 * c];
-        for (int row = 0; row < 24; ++row) {
-            const int fr = L.freeIndex[3 * nodes[row / 3] + row % 3];
-            if (fr < 0) continue;
-            for (int col = 0; col < 24; ++col) {
-                const int fc = L.freeIndex[3 * nodes[col / 3] + col % 3];
-                if (fc >= 0) triplets.emplace_back(fr, fc, 0.0);
+        const int* cn = &L.cells.nodes[8 * c];
+        for (int a = 0; a < 8; ++a) {
+            const int ra = L.blockRow[cn[a]];
+            if (ra < 0) continue;
+            for (int b = 0; b < 8; ++b) {
+                if (L.blockRow[cn[b]] >= 0) columns[ra].push_back(L.blockRow[cn[b]]);
             }
         }
     }
-    L.pattern.resize(L.nfree, L.nfree);
-    L.pattern.setFromTriplets(triplets.begin(), triplets.end());
-    L.pattern.makeCompressed();
-    L.slot.assign(static_cast<std::size_t>(cells) * 576, StiffnessLayout::kNowhere);
-    const int* outer = L.pattern.outerIndexPtr();
-    const int* inner = L.pattern.innerIndexPtr();
+    L.A = makeBlock3Pattern(std::move(columns));
+    L.slot.assign(static_cast<std::size_t>(cells) * 64, -1);
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < cells; ++c) {
-        const int* nodes = &L.cells.nodes[8 * c];
-        for (int row = 0; row < 24; ++row) {
-            const int fr = L.freeIndex[3 * nodes[row / 3] + row % 3];
-            if (fr < 0) continue;
-            for (int col = 0; col < 24; ++col) {
-                const int gc = 3 * nodes[col / 3] + col % 3;
-                const int fc = L.freeIndex[gc];
-                int& out = L.slot[576 * static_cast<std::size_t>(c) + 24 * row + col];
-                if (fc < 0) {
-                    out = -1 - gc;
-                    continue;
-                }
-                // Column-major: the entries of column fc, rows sorted.
-                const int* first = inner + outer[fc];
-                const int* last = inner + outer[fc + 1];
-                out = static_cast<int>(std::lower_bound(first, last, fr) - inner);
+        const int* cn = &L.cells.nodes[8 * c];
+        for (int a = 0; a < 8; ++a) {
+            const int ra = L.blockRow[cn[a]];
+            if (ra < 0) continue;
+            const int* first = L.A.cols.data() + L.A.rowStart[ra];
+            const int* last = L.A.cols.data() + L.A.rowStart[ra + 1];
+            for (int b = 0; b < 8; ++b) {
+                const int rb = L.blockRow[cn[b]];
+                if (rb >= 0) L.slot[64 * static_cast<std::size_t>(c) + 8 * a + b] = static_cast<int>(std::lower_bound(first, last, rb) - L.A.cols.data());
             }
         }
     }
     return L;
 }
 
-// K restricted to the free DOFs and the right-hand side -K_fc u_c of one increment, at the current
-// control grid; or the first inverted cell (nothing assembled).
+// K restricted to the free DOFs (in layout.A) and the right-hand side -K_fc u_c of one increment
+// (in layout.rhs), at the current control grid; or the first inverted cell (nothing assembled).
 struct FreeSystem {
-    std::vector<int> freeIndex;  // per DOF: its free index, -1 when constrained
-    int nfree = 0;
-    long cells = 0;
     double meanVolume = 0;
-    Eigen::SparseMatrix<double> A;
-    Eigen::VectorXd rhs;
     bool invalidCell = false;
     std::string message;
 };
 
-FreeSystem assembleFree(const MultiBlockMesh& m, const StiffnessLayout& L, const std::vector<double>& prescribed,
+FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::vector<double>& prescribed,
                         const ElasticityOptions& o) {
     FreeSystem s;
-    s.freeIndex = L.freeIndex;
-    s.nfree = L.nfree;
     const long cells = L.cells.count();
-    s.cells = cells;
     auto corners = [&](long c, double* x) {
         for (int a = 0; a < 8; ++a) {
             for (int d = 0; d < 3; ++d) x[3 * a + d] = m.control[3 * static_cast<std::size_t>(L.cells.nodes[8 * c + a]) + d];
@@ -486,100 +487,142 @@ FreeSystem assembleFree(const MultiBlockMesh& m, const StiffnessLayout& L, const
         total += vol;
     }
     s.meanVolume = total / std::max(1L, cells);
-    // Element matrices in parallel, then one scatter in cell order.
-    std::vector<double> Ke(static_cast<std::size_t>(cells) * 576);
+    // Element matrices in parallel, then one scatter in cell order, chunk by chunk (a chunk's
+    // matrices stay in cache, and the paper-size grid does not hold 51 MB of them at once).
+    constexpr long kChunk = 512;
+    L.elements.resize(static_cast<std::size_t>(std::min(cells, kChunk)) * 576);
+    std::fill(L.A.values.begin(), L.A.values.end(), 0.0);
+    L.rhs.assign(L.size(), 0.0);
+    double* values = L.A.values.data();
+    for (long c0 = 0; c0 < cells; c0 += kChunk) {
+        const long c1 = std::min(cells, c0 + kChunk);
 #pragma omp parallel for schedule(static)
-    for (long c = 0; c < cells; ++c) {
-        double x[24];
-        corners(c, x);
-        hexStiffness<double>(x, cellModulus(x, s.meanVolume, o), o.poisson, &Ke[576 * static_cast<std::size_t>(c)]);
-    }
-    s.A = L.pattern;
-    double* values = s.A.valuePtr();
-    s.rhs = Eigen::VectorXd::Zero(s.nfree);
-    for (long c = 0; c < cells; ++c) {
-        const int* nodes = &L.cells.nodes[8 * c];
-        const double* K = &Ke[576 * static_cast<std::size_t>(c)];
-        const int* slot = &L.slot[576 * static_cast<std::size_t>(c)];
-        for (int row = 0; row < 24; ++row) {
-            if (slot[24 * row] == StiffnessLayout::kNowhere) continue;
-            const int fr = L.freeIndex[3 * nodes[row / 3] + row % 3];
-            for (int col = 0; col < 24; ++col) {
-                const int t = slot[24 * row + col];
-                const double v = K[24 * row + col];
-                if (t >= 0) {
-                    values[t] += v;
-                } else {
-                    s.rhs[fr] -= v * prescribed[static_cast<std::size_t>(-1 - t)];
+        for (long c = c0; c < c1; ++c) {
+            double x[24];
+            corners(c, x);
+            hexStiffness<double>(x, cellModulus(x, s.meanVolume, o), o.poisson, &L.elements[576 * static_cast<std::size_t>(c - c0)]);
+        }
+        for (long c = c0; c < c1; ++c) {
+            const int* cn = &L.cells.nodes[8 * c];
+            const double* K = &L.elements[576 * static_cast<std::size_t>(c - c0)];
+            const int* slot = &L.slot[64 * static_cast<std::size_t>(c)];
+            for (int a = 0; a < 8; ++a) {
+                if (L.blockRow[cn[a]] < 0) continue;
+                for (int ra = 0; ra < 3; ++ra) {
+                    const int fr = L.freeIndex[3 * cn[a] + ra];
+                    if (fr < 0) continue;
+                    const double* Krow = K + 24 * (3 * a + ra);
+                    for (int b = 0; b < 8; ++b) {
+                        double* block = slot[8 * a + b] >= 0 ? values + 9 * static_cast<std::size_t>(slot[8 * a + b]) + 3 * ra : nullptr;
+                        for (int cb = 0; cb < 3; ++cb) {
+                            const int gc = 3 * cn[b] + cb;
+                            if (L.constrained[gc]) {
+                                L.rhs[fr] -= Krow[3 * b + cb] * prescribed[gc];
+                            } else {
+                                block[cb] += Krow[3 * b + cb];
+                            }
+                        }
+                    }
                 }
             }
+        }
+    }
+    // The identity for the constrained components of nodes that keep a block row.
+    const int nodes = static_cast<int>(L.blockRow.size());
+    for (int n = 0; n < nodes; ++n) {
+        const int r = L.blockRow[n];
+        if (r < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+            if (!L.constrained[3 * n + c]) continue;
+            const int* first = L.A.cols.data() + L.A.rowStart[r];
+            const int* last = L.A.cols.data() + L.A.rowStart[r + 1];
+            const long diag = std::lower_bound(first, last, r) - L.A.cols.data();
+            values[9 * diag + 4 * c] = 1.0;
         }
     }
     return s;
 }
 
-// Solves A x = rhs as the options ask: conjugate gradients with incomplete Cholesky, then (Auto,
-// Direct) a supernodal sparse Cholesky. Factors once; several right-hand sides reuse the factors
-// (the mesh adjoint's functionals share each increment's K).
+// Solves A x = rhs as the options ask: conjugate gradients with the incomplete block Cholesky,
+// then (Auto, Direct) a supernodal sparse Cholesky. Factors once; several right-hand sides reuse
+// the factors (the mesh adjoint's functionals share each increment's K).
 class FreeSolver {
 public:
-    FreeSolver(const Eigen::SparseMatrix<double>& A, const ElasticityOptions& o) : A_(A), o_(o) {
-        if (o.solver != ElasticityOptions::Solver::Direct) {
-            // Incomplete Cholesky in the natural (structured) node order: on the half-sphere control
-            // grid it needs 340 iterations where AMD ordering needs 570 and Jacobi 951, and factors
-            // faster.
-            cg_.setTolerance(o.tolerance);
-            cg_.setMaxIterations(o.solver == ElasticityOptions::Solver::Auto ? std::min(o.maxIterations, o.directAfter)
-                                                                               : o.maxIterations);
-            cg_.compute(A);
-        }
+    FreeSolver(const Block3Matrix& A, BlockIncompleteCholesky& ic, const ElasticityOptions& o) : A_(A), o_(o), ic_(ic) {
+        if (o.solver != ElasticityOptions::Solver::Direct) preconditioned_ = ic_.compute(A);
     }
 
     // x0: the starting guess. Fills the report fields of r (iterations, residual, converged,
     // direct, message).
-    Eigen::VectorXd solve(const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0, IncrementResult& r) {
-        Eigen::VectorXd sol;
+    std::vector<double> solve(const std::vector<double>& rhs, const std::vector<double>& x0, IncrementResult& r) {
+        std::vector<double> sol = x0;
         bool solved = false;
         if (o_.solver != ElasticityOptions::Solver::Direct) {
-            sol = (cg_.info() == Eigen::Success) ? Eigen::VectorXd(cg_.solveWithGuess(rhs, x0)) : x0;
-            r.iterations = static_cast<int>(cg_.iterations());
-            r.residual = cg_.error();
-            r.converged = cg_.info() == Eigen::Success && r.residual <= o_.tolerance;
-            solved = r.converged || o_.solver == ElasticityOptions::Solver::Iterative;
-            if (!r.converged) {
-                r.message = "PCG stopped at relative residual " + std::to_string(r.residual) + " after " +
-                            std::to_string(r.iterations) + " iterations";
+            const int limit = o_.solver == ElasticityOptions::Solver::Auto ? std::min(o_.maxIterations, o_.directAfter)
+                                                                            : o_.maxIterations;
+            if (preconditioned_) {
+                const CgReport cg = conjugateGradients(A_, ic_, rhs, sol, o_.tolerance, limit);
+                r.iterations = cg.iterations;
+                r.residual = cg.residual;
+                r.converged = cg.converged;
+                if (!r.converged) {
+                    r.message = "PCG stopped at relative residual " + std::to_string(r.residual) + " after " +
+                                std::to_string(r.iterations) + " iterations";
+                }
+            } else {
+                r.residual = 1.0;
+                r.message = "the incomplete Cholesky factorization broke down (a control cell is degenerate)";
             }
+            solved = r.converged || o_.solver == ElasticityOptions::Solver::Iterative;
         }
         if (solved) return sol;
         // Supernodal sparse Cholesky: K is SPD for -1 < poisson < 0.5 and positive cell volumes,
         // and the solve is exact to round-off however distorted the cells are.
         r.direct = true;
         if (!factored_) {
+            scalar_ = toScalar(A_);
             llt_.cholmod().print = 0;  // no CHOLMOD warnings on stderr: a failure is reported in r.message
-            llt_.compute(A_);
+            llt_.compute(scalar_);
             factored_ = true;
         }
         if (llt_.info() != Eigen::Success) {
             r.converged = false;
             r.residual = 1.0;
             r.message = "the stiffness matrix is not positive definite (a control cell is degenerate)";
-            return Eigen::VectorXd::Zero(rhs.size());
+            return std::vector<double>(rhs.size(), 0.0);
         }
-        sol = llt_.solve(rhs);
-        const double bn = rhs.norm();
-        r.residual = bn > 0 ? (A_ * sol - rhs).norm() / bn : 0.0;
+        const Eigen::Map<const Eigen::VectorXd> b(rhs.data(), static_cast<Eigen::Index>(rhs.size()));
+        const Eigen::VectorXd x = llt_.solve(b);
+        const double bn = b.norm();
+        r.residual = bn > 0 ? (scalar_ * x - b).norm() / bn : 0.0;
         r.converged = std::isfinite(r.residual) && r.residual <= std::max(o_.tolerance, 1e-8);
         r.message = r.converged ? "" : "the direct solve left a relative residual of " + std::to_string(r.residual);
-        return sol;
+        return std::vector<double>(x.data(), x.data() + x.size());
     }
 
 private:
-    const Eigen::SparseMatrix<double>& A_;
+    // The block matrix as scalar compressed columns (the identity rows included: still SPD).
+    static Eigen::SparseMatrix<double> toScalar(const Block3Matrix& A) {
+        std::vector<Eigen::Triplet<double>> t;
+        t.reserve(A.values.size());
+        for (int r = 0; r < A.rows; ++r) {
+            for (int k = A.rowStart[r]; k < A.rowStart[r + 1]; ++k) {
+                for (int e = 0; e < 9; ++e) {
+                    const double v = A.values[9 * static_cast<std::size_t>(k) + e];
+                    if (v != 0.0) t.emplace_back(3 * r + e / 3, 3 * A.cols[k] + e % 3, v);
+                }
+            }
+        }
+        Eigen::SparseMatrix<double> S(3 * A.rows, 3 * A.rows);
+        S.setFromTriplets(t.begin(), t.end());
+        return S;
+    }
+
+    const Block3Matrix& A_;
     ElasticityOptions o_;
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                             Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
-        cg_;
+    BlockIncompleteCholesky& ic_;
+    bool preconditioned_ = false;
+    Eigen::SparseMatrix<double> scalar_;
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
     bool factored_ = false;
 };
@@ -588,28 +631,32 @@ private:
 
 namespace {
 
-IncrementResult solveIncrement(const MultiBlockMesh& m, const StiffnessLayout& layout, const std::vector<char>& constrained,
-                               const std::vector<double>& prescribed, const ElasticityOptions& o,
-                               const std::vector<double>* initial) {
+// `previous`: earlier solutions of similar systems (all DOFs), for the starting guess.
+IncrementResult solveIncrement(const MultiBlockMesh& m, StiffnessLayout& layout, const std::vector<double>& prescribed,
+                               const ElasticityOptions& o, const std::vector<std::vector<double>>& previous) {
     const int ndof = static_cast<int>(m.control.size());
     IncrementResult r;
-    FreeSystem s = assembleFree(m, layout, prescribed, o);
+    const FreeSystem s = assembleFree(m, layout, prescribed, o);
     if (s.invalidCell) {
         r.invalidCell = true;
         r.message = s.message;
         r.u.assign(ndof, 0.0);
         return r;
     }
-    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(s.nfree);
-    if (initial) {
+    std::vector<std::vector<double>> basis;
+    for (const std::vector<double>& u : previous) {
+        basis.emplace_back(layout.size(), 0.0);
         for (int d = 0; d < ndof; ++d) {
-            if (s.freeIndex[d] >= 0) x0[s.freeIndex[d]] = (*initial)[d];
+            if (layout.freeIndex[d] >= 0) basis.back()[layout.freeIndex[d]] = u[d];
         }
     }
-    FreeSolver solver(s.A, o);
-    const Eigen::VectorXd sol = solver.solve(s.rhs, x0, r);
+    const std::vector<double> x0 = galerkinGuess(layout.A, basis, layout.rhs);
+    FreeSolver solver(layout.A, layout.preconditioner, o);
+    const std::vector<double> sol = solver.solve(layout.rhs, x0, r);
     r.u.assign(ndof, 0.0);
-    for (int d = 0; d < ndof; ++d) r.u[d] = s.freeIndex[d] >= 0 ? sol[s.freeIndex[d]] : (constrained[d] ? prescribed[d] : 0.0);
+    for (int d = 0; d < ndof; ++d) {
+        r.u[d] = layout.freeIndex[d] >= 0 ? sol[layout.freeIndex[d]] : (layout.constrained[d] ? prescribed[d] : 0.0);
+    }
     return r;
 }
 
@@ -618,7 +665,10 @@ IncrementResult solveIncrement(const MultiBlockMesh& m, const StiffnessLayout& l
 IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
                                 const std::vector<double>& prescribed, const ElasticityOptions& o,
                                 const std::vector<double>* initial) {
-    return solveIncrement(m, makeLayout(m, constrained), constrained, prescribed, o, initial);
+    StiffnessLayout layout = makeLayout(m, constrained);
+    std::vector<std::vector<double>> previous;
+    if (initial) previous.push_back(*initial);
+    return solveIncrement(m, layout, prescribed, o, previous);
 }
 
 MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface, const ElasticityOptions& o,
@@ -639,8 +689,8 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
     rep.freeDofs = 0;
     for (char c : constrained) rep.freeDofs += c ? 0 : 1;
     if (history) *history = {};
-    const StiffnessLayout layout = makeLayout(m, constrained);
-    std::vector<double> previous;
+    StiffnessLayout layout = makeLayout(m, constrained);
+    std::vector<std::vector<double>> previous;  // the earlier increments' solutions
     for (int inc = 1; inc <= o.increments; ++inc) {
         if (cancel && cancel->load()) {
             rep.status = SolveStatus::Cancelled;
@@ -650,7 +700,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         // Each increment prescribes 1/m of the wall motion relative to the current grid.
         std::vector<double> prescribed(m.control.size(), 0.0);
         for (std::size_t d = 0; d < delta.size(); ++d) prescribed[d] = delta[d] / o.increments;
-        const IncrementResult r = solveIncrement(m, layout, constrained, prescribed, o, previous.empty() ? nullptr : &previous);
+        const IncrementResult r = solveIncrement(m, layout, prescribed, o, previous);
         if (r.invalidCell) {
             rep.status = SolveStatus::InvalidCell;
             rep.message = "increment " + std::to_string(inc) + " of " + std::to_string(o.increments) + ": " + r.message +
@@ -667,7 +717,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
             history->displacement.push_back(r.u);
         }
         for (std::size_t d = 0; d < m.control.size(); ++d) m.control[d] += r.u[d];
-        previous = r.u;
+        previous.push_back(r.u);
         if (progress) progress(inc, o.increments);
         if (!r.converged) {
             rep.status = SolveStatus::NotConverged;
@@ -877,30 +927,34 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
         }
     }
     const std::vector<char> constrained = boundaryConstraints(m);
-    const StiffnessLayout layout = makeLayout(m, constrained);
+    StiffnessLayout layout = makeLayout(m, constrained);
     MultiBlockMesh grid = m;  // structure; the control points of each increment from the history
     const std::vector<double> zero(ndof, 0.0);
+    std::vector<std::vector<std::vector<double>>> earlier(nr);  // per functional: its solutions so far
     for (int inc = increments; inc >= 1 && rep.converged; --inc) {
         grid.control = history.before[inc - 1];
         const std::vector<double>& u = history.displacement[inc - 1];
         // b^(i) = b^(i-1) + u^(i): ubar = gb. u_f solves K_ff u_f = -K_fc u_c, so
         // K_ff lambda = ubar_f, the prescribed values get ubar_c - (K lambda)_c, and b^(i-1) gets
         // -d(lambda^T K u)/db. One K and one factorization for all right-hand sides.
-        FreeSystem s = assembleFree(grid, layout, zero, o);
+        const FreeSystem s = assembleFree(grid, layout, zero, o);
         if (s.invalidCell) {
             rep.converged = false;
             rep.message = "increment " + std::to_string(inc) + ": " + s.message;
             break;
         }
-        FreeSolver solver(s.A, o);
+        FreeSolver solver(layout.A, layout.preconditioner, o);
         std::vector<std::vector<double>> lambdas(nr, std::vector<double>(ndof, 0.0));
         for (std::size_t p = 0; p < nr && rep.converged; ++p) {
-            Eigen::VectorXd rhs(s.nfree);
+            std::vector<double> rhs(layout.size(), 0.0);
             for (std::size_t d = 0; d < ndof; ++d) {
-                if (s.freeIndex[d] >= 0) rhs[s.freeIndex[d]] = gb[p][d];
+                if (layout.freeIndex[d] >= 0) rhs[layout.freeIndex[d]] = gb[p][d];
             }
             IncrementResult r;
-            const Eigen::VectorXd sol = solver.solve(rhs, Eigen::VectorXd::Zero(s.nfree), r);
+            // Start from the best combination of this functional's later-increment solutions (the
+            // increments' systems and right-hand sides are alike).
+            const std::vector<double> sol = solver.solve(rhs, galerkinGuess(layout.A, earlier[p], rhs), r);
+            earlier[p].push_back(sol);
             rep.iterations.push_back(r.iterations);
             rep.directSolves += r.direct ? 1 : 0;
             if (!r.converged) {
@@ -909,7 +963,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
                 break;
             }
             for (std::size_t d = 0; d < ndof; ++d) {
-                if (s.freeIndex[d] >= 0) lambdas[p][d] = sol[s.freeIndex[d]];
+                if (layout.freeIndex[d] >= 0) lambdas[p][d] = sol[layout.freeIndex[d]];
             }
             const std::vector<double> Kl = stiffnessProduct(grid, o, lambdas[p]);
             for (std::size_t sn = 0; sn < m.surfaceNode.size(); ++sn) {

@@ -23,7 +23,8 @@ struct ElasticityOptions {
     double tolerance = 1e-10;  // PCG relative residual
     int maxIterations = 20000;
     enum class Solver {
-        Auto,       // conjugate gradients (incomplete Cholesky), and a sparse Cholesky of the same
+        Auto,       // conjugate gradients (incomplete block Cholesky in 3x3 node blocks, the earlier
+                    // increments' solutions as the starting guess: mesh/BlockCg.h), and a sparse Cholesky of the same
                     // K when they have not converged in directAfter iterations
         Iterative,  // conjugate gradients only (up to maxIterations)
         Direct,     // supernodal sparse Cholesky (CHOLMOD) of every increment's K

@@ -1,0 +1,277 @@
+#include "mesh/BlockCg.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace aero::mesh {
+
+namespace {
+
+// 3x3 row-major helpers.
+// c -= a b^T
+inline void subtractABt(const double* a, const double* b, double* c) {
+    for (int r = 0; r < 3; ++r) {
+        for (int s = 0; s < 3; ++s) c[3 * r + s] -= a[3 * r] * b[3 * s] + a[3 * r + 1] * b[3 * s + 1] + a[3 * r + 2] * b[3 * s + 2];
+    }
+}
+
+// c = a b
+inline void multiply(const double* a, const double* b, double* c) {
+    for (int r = 0; r < 3; ++r) {
+        for (int s = 0; s < 3; ++s) c[3 * r + s] = a[3 * r] * b[s] + a[3 * r + 1] * b[3 + s] + a[3 * r + 2] * b[6 + s];
+    }
+}
+
+// y -= a x
+inline void subtractAx(const double* a, const double* x, double* y) {
+    y[0] -= a[0] * x[0] + a[1] * x[1] + a[2] * x[2];
+    y[1] -= a[3] * x[0] + a[4] * x[1] + a[5] * x[2];
+    y[2] -= a[6] * x[0] + a[7] * x[1] + a[8] * x[2];
+}
+
+// y -= a^T x
+inline void subtractAtx(const double* a, const double* x, double* y) {
+    y[0] -= a[0] * x[0] + a[3] * x[1] + a[6] * x[2];
+    y[1] -= a[1] * x[0] + a[4] * x[1] + a[7] * x[2];
+    y[2] -= a[2] * x[0] + a[5] * x[1] + a[8] * x[2];
+}
+
+// The inverse of the symmetric block d (its lower triangle is used) through its Cholesky factor;
+// false when a pivot is not above `floor` (not positive definite to working accuracy).
+bool invertSpd(const double* d, double floor, double* inv) {
+    const double c00sq = d[0];
+    if (!(c00sq > floor)) return false;
+    const double c00 = std::sqrt(c00sq);
+    const double c10 = d[3] / c00, c20 = d[6] / c00;
+    const double c11sq = d[4] - c10 * c10;
+    if (!(c11sq > floor)) return false;
+    const double c11 = std::sqrt(c11sq);
+    const double c21 = (d[7] - c20 * c10) / c11;
+    const double c22sq = d[8] - c20 * c20 - c21 * c21;
+    if (!(c22sq > floor)) return false;
+    const double c22 = std::sqrt(c22sq);
+    // G = C^{-1} (lower triangular), inv = G^T G.
+    const double g00 = 1 / c00, g11 = 1 / c11, g22 = 1 / c22;
+    const double g10 = -c10 * g00 * g11;
+    const double g21 = -c21 * g11 * g22;
+    const double g20 = -(c20 * g00 + c21 * g10) * g22;
+    inv[0] = g00 * g00 + g10 * g10 + g20 * g20;
+    inv[1] = inv[3] = g10 * g11 + g20 * g21;
+    inv[2] = inv[6] = g20 * g22;
+    inv[4] = g11 * g11 + g21 * g21;
+    inv[5] = inv[7] = g21 * g22;
+    inv[8] = g22 * g22;
+    return true;
+}
+
+// Dot product in fixed chunks summed in order: the same bits for any thread count.
+constexpr long kChunk = 4096;
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    const long n = static_cast<long>(a.size());
+    const long chunks = (n + kChunk - 1) / kChunk;
+    std::vector<double> partial(chunks, 0.0);
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunks; ++c) {
+        double s = 0;
+        const long end = std::min(n, (c + 1) * kChunk);
+        for (long i = c * kChunk; i < end; ++i) s += a[i] * b[i];
+        partial[c] = s;
+    }
+    double s = 0;
+    for (double p : partial) s += p;
+    return s;
+}
+
+}  // namespace
+
+void Block3Matrix::mult(const double* x, double* y) const {
+#pragma omp parallel for schedule(static)
+    for (int r = 0; r < rows; ++r) {
+        double acc[3] = {0, 0, 0};
+        for (int t = rowStart[r]; t < rowStart[r + 1]; ++t) subtractAx(&values[9 * static_cast<std::size_t>(t)], x + 3 * static_cast<std::size_t>(cols[t]), acc);
+        y[3 * static_cast<std::size_t>(r)] = -acc[0];
+        y[3 * static_cast<std::size_t>(r) + 1] = -acc[1];
+        y[3 * static_cast<std::size_t>(r) + 2] = -acc[2];
+    }
+}
+
+Block3Matrix makeBlock3Pattern(std::vector<std::vector<int>> columns) {
+    Block3Matrix A;
+    A.rows = static_cast<int>(columns.size());
+    A.rowStart.assign(A.rows + 1, 0);
+    for (int r = 0; r < A.rows; ++r) {
+        std::vector<int>& c = columns[r];
+        c.push_back(r);
+        std::sort(c.begin(), c.end());
+        c.erase(std::unique(c.begin(), c.end()), c.end());
+        A.rowStart[r + 1] = A.rowStart[r] + static_cast<int>(c.size());
+    }
+    A.cols.reserve(A.rowStart[A.rows]);
+    for (const auto& c : columns) A.cols.insert(A.cols.end(), c.begin(), c.end());
+    A.values.assign(9 * A.cols.size(), 0.0);
+    return A;
+}
+
+bool BlockIncompleteCholesky::compute(const Block3Matrix& A) {
+    rows_ = A.rows;
+    lowerStart_.assign(rows_ + 1, 0);
+    lowerCols_.clear();
+    for (int r = 0; r < rows_; ++r) {
+        for (int t = A.rowStart[r]; t < A.rowStart[r + 1] && A.cols[t] < r; ++t) lowerCols_.push_back(A.cols[t]);
+        lowerStart_[r + 1] = static_cast<int>(lowerCols_.size());
+    }
+    // Overwritten before they are read; resize keeps the buffers of an earlier factorization.
+    lower_.resize(9 * lowerCols_.size());
+    pivotInv_.resize(9 * static_cast<std::size_t>(rows_));
+    double sigma = 0;
+    for (int attempt = 0; attempt <= 12; ++attempt) {
+        if (factor(A, sigma)) {
+            shift_ = sigma;
+            return true;
+        }
+        sigma = sigma == 0 ? 1e-3 : 2 * sigma;
+    }
+    return false;
+}
+
+bool BlockIncompleteCholesky::factor(const Block3Matrix& A, double sigma) {
+    std::vector<int> position(rows_, -1);  // block column -> its slot in the current row of L
+    for (int i = 0; i < rows_; ++i) {
+        const int b0 = lowerStart_[i], b1 = lowerStart_[i + 1];
+        const int a0 = A.rowStart[i];
+        // W_ik = L_ik D_k = A_ik - sum_{j < k} W_ij L_kj^T over j in both rows' patterns.
+        for (int t = b0; t < b1; ++t) {
+            position[lowerCols_[t]] = t;
+            std::copy_n(&A.values[9 * static_cast<std::size_t>(a0 + t - b0)], 9, &lower_[9 * static_cast<std::size_t>(t)]);
+        }
+        for (int t = b0; t < b1; ++t) {
+            const int k = lowerCols_[t];
+            double* w = &lower_[9 * static_cast<std::size_t>(t)];
+            for (int s = lowerStart_[k]; s < lowerStart_[k + 1]; ++s) {
+                const int p = position[lowerCols_[s]];
+                if (p >= 0) subtractABt(&lower_[9 * static_cast<std::size_t>(p)], &lower_[9 * static_cast<std::size_t>(s)], w);
+            }
+        }
+        // D_i = A_ii - sum_k W_ik L_ik^T, L_ik = W_ik D_k^{-1}.
+        const int diag = a0 + (b1 - b0);
+        double d[9];
+        std::copy_n(&A.values[9 * static_cast<std::size_t>(diag)], 9, d);
+        const double scale = std::max({std::abs(d[0]), std::abs(d[4]), std::abs(d[8])});
+        for (int c = 0; c < 3; ++c) d[4 * c] *= 1 + sigma;
+        for (int t = b0; t < b1; ++t) {
+            double* w = &lower_[9 * static_cast<std::size_t>(t)];
+            double l[9];
+            multiply(w, &pivotInv_[9 * static_cast<std::size_t>(lowerCols_[t])], l);
+            subtractABt(w, l, d);
+            std::copy_n(l, 9, w);
+            position[lowerCols_[t]] = -1;
+        }
+        if (!invertSpd(d, 1e-13 * scale, &pivotInv_[9 * static_cast<std::size_t>(i)])) return false;
+    }
+    return true;
+}
+
+void BlockIncompleteCholesky::solve(const double* r, double* z) const {
+    const std::size_t n = 3 * static_cast<std::size_t>(rows_);
+    std::vector<double>& y = work_;
+    y.assign(r, r + n);
+    // (I + L) y = r, then z = D^{-1} y.
+    for (int i = 0; i < rows_; ++i) {
+        double* yi = &y[3 * static_cast<std::size_t>(i)];
+        for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
+            subtractAx(&lower_[9 * static_cast<std::size_t>(t)], &y[3 * static_cast<std::size_t>(lowerCols_[t])], yi);
+        }
+        const double* p = &pivotInv_[9 * static_cast<std::size_t>(i)];
+        double* zi = z + 3 * static_cast<std::size_t>(i);
+        zi[0] = p[0] * yi[0] + p[1] * yi[1] + p[2] * yi[2];
+        zi[1] = p[3] * yi[0] + p[4] * yi[1] + p[5] * yi[2];
+        zi[2] = p[6] * yi[0] + p[7] * yi[1] + p[8] * yi[2];
+    }
+    // (I + L)^T x = z in place, by columns: x_i is final once the rows below have passed.
+    for (int i = rows_ - 1; i >= 0; --i) {
+        const double* xi = z + 3 * static_cast<std::size_t>(i);
+        for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
+            subtractAtx(&lower_[9 * static_cast<std::size_t>(t)], xi, z + 3 * static_cast<std::size_t>(lowerCols_[t]));
+        }
+    }
+}
+
+CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky& M, const std::vector<double>& b,
+                            std::vector<double>& x, double tolerance, int maxIterations) {
+    CgReport rep;
+    const long n = static_cast<long>(b.size());
+    x.resize(n, 0.0);
+    const double bb = dot(b, b);
+    if (bb == 0) {
+        std::fill(x.begin(), x.end(), 0.0);
+        rep.converged = true;
+        return rep;
+    }
+    std::vector<double> r(n), z(n), p(n), q(n);
+    A.mult(x.data(), q.data());
+    for (long i = 0; i < n; ++i) r[i] = b[i] - q[i];
+    const double threshold = std::max(tolerance * tolerance * bb, std::numeric_limits<double>::min());
+    double rr = dot(r, r);
+    if (rr >= threshold) {
+        M.solve(r.data(), p.data());
+        double rz = dot(r, p);
+        while (rep.iterations < maxIterations) {
+            A.mult(p.data(), q.data());
+            const double alpha = rz / dot(p, q);
+            ++rep.iterations;
+#pragma omp parallel for schedule(static)
+            for (long i = 0; i < n; ++i) {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * q[i];
+            }
+            rr = dot(r, r);
+            if (!(rr >= threshold)) break;  // converged, or NaN (reported by the residual)
+            M.solve(r.data(), z.data());
+            const double rzNew = dot(r, z);
+            const double beta = rzNew / rz;
+            rz = rzNew;
+#pragma omp parallel for schedule(static)
+            for (long i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+        }
+    }
+    rep.residual = std::sqrt(rr / bb);
+    rep.converged = rep.residual <= tolerance;
+    return rep;
+}
+
+std::vector<double> galerkinGuess(const Block3Matrix& A, const std::vector<std::vector<double>>& basis,
+                                  const std::vector<double>& b) {
+    const std::size_t n = b.size();
+    std::vector<double> x(n, 0.0);
+    std::vector<std::vector<double>> w, Aw;  // A-orthonormal vectors and their products
+    std::vector<double> Av(n);
+    for (const std::vector<double>& v0 : basis) {
+        std::vector<double> v = v0;
+        A.mult(v.data(), Av.data());
+        const double norm0 = dot(v, Av);
+        if (!(norm0 > 0)) continue;
+        for (std::size_t j = 0; j < w.size(); ++j) {
+            const double c = dot(Aw[j], v);
+            for (std::size_t i = 0; i < n; ++i) {
+                v[i] -= c * w[j][i];
+                Av[i] -= c * Aw[j][i];
+            }
+        }
+        const double norm = dot(v, Av);
+        if (!(norm > 1e-16 * norm0)) continue;
+        const double s = 1 / std::sqrt(norm);
+        for (std::size_t i = 0; i < n; ++i) {
+            v[i] *= s;
+            Av[i] *= s;
+        }
+        const double c = dot(v, b);
+        for (std::size_t i = 0; i < n; ++i) x[i] += c * v[i];
+        w.push_back(std::move(v));
+        Aw.push_back(Av);
+    }
+    return x;
+}
+
+}  // namespace aero::mesh
