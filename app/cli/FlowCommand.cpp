@@ -159,6 +159,14 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                 " approximate-Newton steps took over: the Newton steps did not recover from a failed linear solve within " +
                 std::to_string(run.flow.newton.recoveryIterations) + " iterations (flow.exact_recovery_iterations)");
         }
+        if (rep.switchedAt > 0) {
+            std::snprintf(buf, sizeof buf,
+                          "note: iterations %d-%d solved with the pressure switch smoothed to %g (flow.switch_continuation), "
+                          "the case's own switch (%g) from iteration %d",
+                          first + 1, first + rep.switchedAt - 1, run.flow.newton.switchContinuation,
+                          fr.residualOptions.dissipation.switchSmoothing, first + rep.switchedAt);
+            say(buf);
+        }
         const flow::ForceCoefficients& f = fr.forces;
         std::snprintf(buf, sizeof buf, "CL %.6f  CD %.6f  CM %.6f  CY %.6f  max |s - s_inf| %.3e  max Mach %.3f", f.CL, f.CD,
                       f.CM, f.CY, std::abs(fr.maxEntropy.value), fr.maxMach.value);
@@ -262,6 +270,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["linear_iterations"] = rep.linearIterations;
             j["lumping"] = rep.lumping;
             j["approximate_from"] = rep.approximateFrom > 0 ? first + rep.approximateFrom : 0;
+            j["switched_at"] = rep.switchedAt > 0 ? first + rep.switchedAt : 0;
             j["initial_residual"] = rep.initialResidual;
             j["final_residual"] = rep.finalResidual;
             j["CL"] = f.CL;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "common/Error.h"
 #include "flow/Metrics.h"
@@ -202,7 +203,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
 
     std::vector<double> r(n), rNew(n), qNew(n), dq(n);
     residual(fm, metrics.data(), q.data(), o, r.data());
-    const double Rstart = norm2(r);
+    double Rstart = norm2(r);
     // Relative measures refer to the first run's initial residual when this run continues one.
     const double R0 = opt.referenceResidual > 0 ? opt.referenceResidual : Rstart;
     rep.initialResidual = R0;
@@ -212,12 +213,28 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         return finish(FlowStatus::Converged, "the initial state is converged (relative residual " + sci(Rstart / R0) + ")");
     }
 
-    StepSystem system(fm, metrics, o, opt);
-    std::vector<double> localCfl, change;
-    if (opt.localCfl) {
-        localCfl.assign(N, 1.0);
-        system.setLocalCfl(&localCfl);
+    // Switch continuation (NewtonOptions::switchContinuation): far from the solution the
+    // residual's pressure switch is made smooth (differentiable), and the case's own switch takes
+    // over once the smooth problem is nearly solved, or if it stalls.
+    ResidualOptions smooth = o;
+    bool continuing = opt.switchContinuation > o.dissipation.switchSmoothing && o.dissipation.kappa2 > 0 &&
+                      Rstart > opt.switchContinuationUntil * R0;
+    if (continuing) {
+        smooth.dissipation.switchSmoothing = opt.switchContinuation;
+        residual(fm, metrics.data(), q.data(), smooth, r.data());
+        Rstart = norm2(r);
+        if (!std::isfinite(Rstart)) return finish(FlowStatus::NotANumber, "the initial residual is not finite");
     }
+    const ResidualOptions* active = continuing ? &smooth : &o;
+    std::vector<double> localCfl, change;
+    if (opt.localCfl) localCfl.assign(N, 1.0);
+    auto makeSystem = [&](const ResidualOptions& ro, double lumping) {
+        auto sys = std::make_unique<StepSystem>(fm, metrics, ro, opt);
+        if (lumping > 0) sys->setLumping(lumping);
+        if (opt.localCfl) sys->setLocalCfl(&localCfl);
+        return sys;
+    };
+    std::unique_ptr<StepSystem> systemPtr = makeSystem(*active, 0.0);
     // With per-node CFL factors a solved step is limited node by node: a node the step would
     // change by more than the limit takes its part of the step scaled to the limit and has its
     // own time step cut by the same factor for the next iterations (the change of a short
@@ -245,7 +262,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     CflLaw law(opt, opt.cfl0);
     double Rn = Rstart, best = Rstart;
     rep.cflBase = law.base();
-    rep.lumping = system.lumping();
+    rep.lumping = systemPtr->lumping();
     int bestIteration = 0, rejections = 0;
     double cflHigh = 0;          // the largest CFL of an accepted step so far
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
@@ -257,23 +274,40 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     int failedAt = -1;           // iteration of the exact failure being watched (-1: none)
     double bestAtFailure = 0;    // the best residual then
     bool approximateAfterFailure = false;
+    // Hands the solve from the smooth switch to the case's own (its residual at this state and a
+    // fresh stall window; the CFL law follows the higher residual down by itself).
+    auto endContinuation = [&](int it) {
+        continuing = false;
+        active = &o;
+        const double lumping = systemPtr->lumping();
+        systemPtr.reset();  // one system's memory at a time
+        systemPtr = makeSystem(o, lumping);
+        residual(fm, metrics.data(), q.data(), o, r.data());
+        Rn = norm2(r);
+        best = Rn;
+        bestIteration = it;
+        failedAt = -1;  // (Newton, if the crawl test chose it, stays: the switch is a small change)
+        windowStart = static_cast<int>(rep.history.size());
+        rep.finalResidual = Rn;
+        rep.switchedAt = it + 1;
+    };
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
         const double cfl = law.next(Rn, R0);
         bool exact = newton || (!approximateAfterFailure && Rn <= opt.exactBelow * R0);
-        system.assemble(q.data(), r.data(), cfl, exact);
+        systemPtr->assemble(q.data(), r.data(), cfl, exact);
         FlowIteration rec;
         std::string why;             // why the step was rejected
         bool linearFailed = false;   // ... because GMRES could not solve the system
         // One pseudo-time step; false when it is rejected (the CFL is then cut).
         auto step = [&]() -> bool {
-            if (!system.factor(why)) {
+            if (!systemPtr->factor(why)) {
                 linearFailed = true;
                 return false;
             }
-            const GmresReport g = system.solve(r.data(), dq.data());
+            const GmresReport g = systemPtr->solve(r.data(), dq.data());
             rep.linearIterations += g.iterations;
             rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, exact, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {
@@ -300,7 +334,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                 why = "the update makes density or pressure negative";
                 return false;
             }
-            residual(fm, metrics.data(), qNew.data(), o, rNew.data());
+            residual(fm, metrics.data(), qNew.data(), *active, rNew.data());
             const double Rnew = norm2(rNew);
             if (!std::isfinite(Rnew) || Rnew > 10.0 * Rn) {
                 why = "the residual would grow to " + sci(Rnew / R0) + " of the initial one";
@@ -335,21 +369,26 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             newton = false;
             windowStart = static_cast<int>(rep.history.size()) + 1;
             linearFailed = false;
-            system.useApproximate();
+            systemPtr->useApproximate();
             accepted = attempt();
         }
-        while (!accepted && linearFailed && system.lumping() < opt.maxLumping) {
+        while (!accepted && linearFailed && systemPtr->lumping() < opt.maxLumping) {
             // GMRES failed on the lumped system: its ILU lost stability (too little diagonal
             // dominance for this grid and CFL). More lumping restores it; keep it for the run.
-            system.setLumping(std::min(opt.maxLumping, 2.0 * system.lumping()));
-            rep.lumping = system.lumping();
+            systemPtr->setLumping(std::min(opt.maxLumping, 2.0 * systemPtr->lumping()));
+            rep.lumping = systemPtr->lumping();
             exact = false;
-            system.assemble(q.data(), r.data(), cfl, false);
+            systemPtr->assemble(q.data(), r.data(), cfl, false);
             linearFailed = false;
             accepted = attempt();
         }
         if (!accepted) {
-            if (++rejections > opt.maxRejections) {
+            if (++rejections > opt.maxRejections && continuing) {
+                rejections = 0;
+                endContinuation(it);
+                continue;
+            }
+            if (rejections > opt.maxRejections) {
                 return finish(FlowStatus::Diverged, "diverged: " + std::to_string(rejections) +
                                                         " steps in a row rejected (last at CFL " + sci(cfl) + ": " + why +
                                                         "), relative residual " + sci(Rn / R0));
@@ -369,6 +408,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             rep.seconds = elapsed();
             checkpoint(q, rep);
         }
+        if (continuing && Rn <= opt.switchContinuationUntil * R0) {
+            endContinuation(it);
+            if (!(Rn <= opt.relativeTolerance * R0 || Rn <= opt.absoluteTolerance)) continue;
+        }
         if (Rn <= opt.relativeTolerance * R0 || Rn <= opt.absoluteTolerance) {
             return finish(FlowStatus::Converged, "converged: residual reduced by " + sci(Rn / R0) + " in " +
                                                      std::to_string(rep.iterations) + " iterations");
@@ -381,6 +424,9 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             // (the transient of a fine grid can raise ||R|| for 40 iterations of full steps).
             best = std::min(best, Rn);
             bestIteration = it;
+        } else if (it - bestIteration >= opt.stallIterations && continuing) {
+            endContinuation(it);  // the smooth problem stalled: the case's own switch from here
+            continue;
         } else if (it - bestIteration >= opt.stallIterations) {
             return finish(FlowStatus::Stalled, "stalled: no progress in " + std::to_string(opt.stallIterations) +
                                                    " iterations at relative residual " + sci(Rn / R0));

@@ -88,6 +88,17 @@ struct NewtonOptions {
                                        // stall window restarts (once per run). The 903k half-sphere
                                        // stalled without it; a 14k design whose exact steps recover
                                        // in 3 iterations needs them (docs/validation.md). 0: never
+    double switchContinuation = 0.01;  // > the residual's DissipationOptions::switchSmoothing: a
+                                       // solve that starts above switchContinuationUntil first
+                                       // solves the problem with the pressure switch's |.| and
+                                       // max() smoothed to this width (a differentiable residual,
+                                       // which Newton can converge where the kinked switch makes
+                                       // the iteration wander), then continues with the case's own
+                                       // switch from that state once the relative residual is
+                                       // below switchContinuationUntil, or when the smooth problem
+                                       // stalls or keeps rejecting steps. The answer is the case's
+                                       // own residual's; 0: off (docs/validation.md)
+    double switchContinuationUntil = 1e-2;  // 1e-3 and 1e-4 were tried: docs/validation.md
     double referenceResidual = 0;      // ||R0|| of the run this one continues (restart): tolerances,
                                        // exactBelow and the CFL law refer to it; 0: this run's own
     double maxLumping = 16;            // when GMRES fails on the lumped system, its lumping factor
@@ -135,6 +146,8 @@ struct FlowReport {
     int approximateFrom = 0;      // the iteration from which approximate steps took over because
                                   // the exact ones did not recover from a failed linear solve
                                   // (NewtonOptions::recoveryIterations; 0: they did not)
+    int switchedAt = 0;           // the first iteration with the case's own pressure switch after
+                                  // a switch continuation (0: none, or none needed)
     bool converged() const { return status == FlowStatus::Converged; }
 };
 

@@ -188,6 +188,17 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                       "after a Newton step's linear solve fails, the Newton steps that follow have this many "
                                       "iterations to reach a new best residual; if they do not, approximate-Newton steps take "
                                       "over until they crawl (0: never)"));
+        o.push_back(real<FlowCase>("switch_continuation", "", 0, true, 0.5, true,
+                                   [](FlowCase& c) -> double& { return c.newton.switchContinuation; },
+                                   "a solve that starts above switch_continuation_until first solves with the pressure "
+                                   "switch smoothed to this width (a differentiable residual: Newton converges where the "
+                                   "kinked switch makes the iteration wander), then continues with the case's own switch "
+                                   "(switch_smoothing) from that state, also when the smoothed solve stalls or keeps "
+                                   "rejecting steps; the answer is always the case's own residual's (0: off)"));
+        o.push_back(real<FlowCase>("switch_continuation_until", "", 1e-14, true, 1, false,
+                                   [](FlowCase& c) -> double& { return c.newton.switchContinuationUntil; },
+                                   "relative residual at which the smoothed switch hands over to the case's own "
+                                   "(earlier if the smoothed solve stalls)"));
         o.push_back(real<FlowCase>("cfl0", "", 0, false, 1e12, false, [](FlowCase& c) -> double& { return c.newton.cfl0; },
                                    "initial CFL number (the CFL also grows as R0/R)"));
         o.push_back(real<FlowCase>("cfl_growth", "", 1, true, 100, false,

@@ -15,6 +15,14 @@
 namespace aero::flow {
 namespace {
 
+// Residual options at this free stream (the rest default).
+ResidualOptions freeStreamAt(double mach, double alphaDeg) {
+    ResidualOptions o;
+    o.freeStream.mach = mach;
+    o.freeStream.alphaDeg = alphaDeg;
+    return o;
+}
+
 FlowReport solve(const testing::FlowCase& c, const ResidualOptions& o, std::vector<double>& q,
                  const NewtonOptions& n = {}) {
     return solveFlow(c.fm, c.metrics, o, q, n, [](const FlowIteration& it) {
@@ -136,9 +144,7 @@ TEST(FlowSolver, ExactStepsThatDoNotRecoverFromAFailureHandOverToApproximateOnes
     // cut to 15 iterations per step, so that exact steps fail and the residual wanders; the
     // test checks the rule, not convergence (this case does not converge either way).
     const testing::FlowCase& c = testing::halfSphere(0.3);
-    ResidualOptions o;
-    o.freeStream.mach = 0.75;
-    o.freeStream.alphaDeg = 1.2;
+    const ResidualOptions o = freeStreamAt(0.75, 1.2);
     NewtonOptions n;
     n.gmresRestart = 15;
     n.gmresMaxIterations = 15;
@@ -146,6 +152,7 @@ TEST(FlowSolver, ExactStepsThatDoNotRecoverFromAFailureHandOverToApproximateOnes
     n.cflGrowth = 2.5;
     n.maxIterations = 50;
     n.recoveryIterations = 10;
+    n.switchContinuation = 0;  // the kinked switch throughout: the smoothed one avoids the failures
     std::vector<double> q;
     const FlowReport rep = solve(c, o, q, n);
     std::printf("%s; approximate steps from iteration %d\n", rep.message.c_str(), rep.approximateFrom);
@@ -232,11 +239,22 @@ TEST(FlowSolver, ReportsAStallWhenNeitherTheResidualNorTheCflMoves) {
     NewtonOptions n;
     n.maxRelativeChange = 1e-6;
     n.stallIterations = 6;
+    n.switchContinuation = 0;  // the stall rule alone first
+    const std::vector<double> start = q;
     const FlowReport rep = solve(box, o, q, n);
     EXPECT_EQ(rep.status, FlowStatus::Stalled) << rep.message;
     EXPECT_EQ(rep.iterations, n.stallIterations + 1);  // the first step sets the CFL high
     EXPECT_NE(rep.message.find("no progress in 6 iterations"), std::string::npos) << rep.message;
     for (const FlowIteration& it : rep.history) EXPECT_LT(it.stepScale, 1.0);
+    // With the switch continuation a stall of the smoothed problem hands over to the case's own
+    // switch with a fresh window, and the stall of that one is reported.
+    n.switchContinuation = 0.01;
+    q = start;
+    const FlowReport twice = solve(box, o, q, n);
+    EXPECT_EQ(twice.status, FlowStatus::Stalled) << twice.message;
+    EXPECT_EQ(twice.switchedAt, n.stallIterations + 2);
+    EXPECT_EQ(twice.iterations, 2 * n.stallIterations + 1);
+    EXPECT_NE(twice.message.find("no progress in 6 iterations"), std::string::npos) << twice.message;
 }
 
 TEST(FlowSolver, ReportsANonPhysicalStartInsteadOfIterating) {
@@ -268,6 +286,53 @@ TEST(FlowSolver, StopsOnCancelAndOnTheIterationLimitWithTheReason) {
     EXPECT_NE(limited.message.find("not converged"), std::string::npos) << limited.message;
     EXPECT_LT(limited.finalResidual, limited.initialResidual);
     EXPECT_STREQ(flowStatusName(limited.status), "max-iterations");
+}
+
+TEST(FlowSolver, SwitchContinuationSolvesTheSmoothedProblemFirstAndConvergesTheCasesOwn) {
+    // Far from the solution the pressure switch is smoothed (NewtonOptions::switchContinuation),
+    // then the case's own (kinked) switch takes over from that state. The answer must be the
+    // case's own steady state: the same as a run without the continuation, to the tolerance.
+    const testing::FlowCase& c = testing::halfSphere(0.3);
+    const ResidualOptions o = freeStreamAt(0.6, 1.2);
+    NewtonOptions n;
+    ASSERT_GT(n.switchContinuation, o.dissipation.switchSmoothing);  // on by default
+    std::vector<double> q;
+    const FlowReport rep = solve(c, o, q, n);
+    ASSERT_TRUE(rep.converged()) << rep.message;
+    ASSERT_GT(rep.switchedAt, 1) << "no continuation";
+    // The smoothed phase ran until its residual was below switchContinuationUntil.
+    const FlowIteration* last = nullptr;
+    for (const FlowIteration& h : rep.history) {
+        if (h.iteration < rep.switchedAt) last = &h;
+    }
+    ASSERT_NE(last, nullptr);
+    EXPECT_LE(last->relativeResidual, n.switchContinuationUntil);
+    EXPECT_GT(last->relativeResidual, n.relativeTolerance);
+    // The final state solves the case's own residual.
+    std::vector<double> r(q.size());
+    residual(c.fm, c.metrics.data(), q.data(), o, r.data());
+    double rr = 0;
+    for (double v : r) rr += v * v;
+    EXPECT_LE(std::sqrt(rr), 1.0001 * n.relativeTolerance * rep.initialResidual);
+    // ... and is the state a run without the continuation converges to.
+    NewtonOptions off = n;
+    off.switchContinuation = 0;
+    std::vector<double> plainQ;
+    const FlowReport plain = solve(c, o, plainQ, off);
+    ASSERT_TRUE(plain.converged()) << plain.message;
+    EXPECT_EQ(plain.switchedAt, 0);
+    double worst = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) worst = std::max(worst, std::abs(q[i] - plainQ[i]));
+    EXPECT_LT(worst, 1e-8);
+    std::printf("continuation: %d iterations (switch at %d), without: %d\n", rep.iterations, rep.switchedAt,
+                plain.iterations);
+    // A case whose own switch is already at least as smooth needs no continuation.
+    ResidualOptions smooth = o;
+    smooth.dissipation.switchSmoothing = n.switchContinuation;
+    std::vector<double> smoothQ;
+    const FlowReport same = solve(c, smooth, smoothQ, n);
+    EXPECT_TRUE(same.converged()) << same.message;
+    EXPECT_EQ(same.switchedAt, 0);
 }
 
 }  // namespace
