@@ -291,8 +291,17 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         rep.finalResidual = Rn;
         rep.switchedAt = it + 1;
     };
+    // A run that stops during the continuation reports the case's own residual at its state
+    // (not the smoothed problem's), so the numbers mean the same in every report.
+    auto ownResidual = [&] {
+        if (!continuing) return;
+        residual(fm, metrics.data(), q.data(), o, r.data());
+        Rn = norm2(r);
+        rep.finalResidual = Rn;
+    };
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
+            ownResidual();
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
         }
         const double cfl = law.next(Rn, R0);
@@ -417,6 +426,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                                                      std::to_string(rep.iterations) + " iterations");
         }
         if (Rn > opt.divergenceFactor * R0) {
+            ownResidual();
             return finish(FlowStatus::Diverged, "diverged: residual grew to " + sci(Rn / R0) + " times the initial one");
         }
         if (Rn < 0.99 * best || cfl > 1.01 * cflHigh) {
@@ -464,6 +474,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             }
         }
     }
+    ownResidual();
     return finish(FlowStatus::MaxIterations, "not converged in " + std::to_string(opt.maxIterations) +
                                                  " iterations: relative residual " + sci(Rn / R0));
 }

@@ -326,6 +326,17 @@ TEST(FlowSolver, SwitchContinuationSolvesTheSmoothedProblemFirstAndConvergesTheC
     EXPECT_LT(worst, 1e-8);
     std::printf("continuation: %d iterations (switch at %d), without: %d\n", rep.iterations, rep.switchedAt,
                 plain.iterations);
+    // A run stopped during the smoothed phase reports the case's own residual at its state.
+    NewtonOptions shortRun = n;
+    shortRun.maxIterations = 3;
+    std::vector<double> early;
+    const FlowReport stopped = solve(c, o, early, shortRun);
+    ASSERT_EQ(stopped.status, FlowStatus::MaxIterations);
+    ASSERT_EQ(stopped.switchedAt, 0);
+    residual(c.fm, c.metrics.data(), early.data(), o, r.data());
+    rr = 0;
+    for (double v : r) rr += v * v;
+    EXPECT_NEAR(stopped.finalResidual, std::sqrt(rr), 1e-12 * std::sqrt(rr));
     // A case whose own switch is already at least as smooth needs no continuation.
     ResidualOptions smooth = o;
     smooth.dissipation.switchSmoothing = n.switchContinuation;
