@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 
 #include "common/Error.h"
 #include "flow/Metrics.h"
@@ -139,6 +138,17 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
     productsReady_ = false;
 }
 
+void StepSystem::setResidualOptions(const ResidualOptions& o) {
+    const double lumping = approx_.dissipation.lumping;
+    approx_ = o;
+    approx_.lumpedDissipation = true;
+    approx_.freezeCoefficients = true;
+    approx_.dissipation.lumping = lumping;
+    jp_.setResidualOptions(o);
+    factored_ = false;
+    productsReady_ = false;
+}
+
 bool StepSystem::factor(std::string& why) {
     if (factored_) return true;
     if (!ilu_.factor(P_, n_.iluFill)) {
@@ -228,13 +238,8 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     const ResidualOptions* active = continuing ? &smooth : &o;
     std::vector<double> localCfl, change;
     if (opt.localCfl) localCfl.assign(N, 1.0);
-    auto makeSystem = [&](const ResidualOptions& ro, double lumping) {
-        auto sys = std::make_unique<StepSystem>(fm, metrics, ro, opt);
-        if (lumping > 0) sys->setLumping(lumping);
-        if (opt.localCfl) sys->setLocalCfl(&localCfl);
-        return sys;
-    };
-    std::unique_ptr<StepSystem> systemPtr = makeSystem(*active, 0.0);
+    StepSystem system(fm, metrics, *active, opt);
+    if (opt.localCfl) system.setLocalCfl(&localCfl);
     // With per-node CFL factors a solved step is limited node by node: a node the step would
     // change by more than the limit takes its part of the step scaled to the limit and has its
     // own time step cut by the same factor for the next iterations (the change of a short
@@ -262,7 +267,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     CflLaw law(opt, opt.cfl0);
     double Rn = Rstart, best = Rstart;
     rep.cflBase = law.base();
-    rep.lumping = systemPtr->lumping();
+    rep.lumping = system.lumping();
     int bestIteration = 0, rejections = 0;
     double cflHigh = 0;          // the largest CFL of an accepted step so far
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
@@ -279,9 +284,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     auto endContinuation = [&](int it) {
         continuing = false;
         active = &o;
-        const double lumping = systemPtr->lumping();
-        systemPtr.reset();  // one system's memory at a time
-        systemPtr = makeSystem(o, lumping);
+        system.setResidualOptions(o);
         residual(fm, metrics.data(), q.data(), o, r.data());
         Rn = norm2(r);
         best = Rn;
@@ -306,17 +309,17 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         }
         const double cfl = law.next(Rn, R0);
         bool exact = newton || (!approximateAfterFailure && Rn <= opt.exactBelow * R0);
-        systemPtr->assemble(q.data(), r.data(), cfl, exact);
+        system.assemble(q.data(), r.data(), cfl, exact);
         FlowIteration rec;
         std::string why;             // why the step was rejected
         bool linearFailed = false;   // ... because GMRES could not solve the system
         // One pseudo-time step; false when it is rejected (the CFL is then cut).
         auto step = [&]() -> bool {
-            if (!systemPtr->factor(why)) {
+            if (!system.factor(why)) {
                 linearFailed = true;
                 return false;
             }
-            const GmresReport g = systemPtr->solve(r.data(), dq.data());
+            const GmresReport g = system.solve(r.data(), dq.data());
             rep.linearIterations += g.iterations;
             rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, exact, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {
@@ -378,16 +381,16 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             newton = false;
             windowStart = static_cast<int>(rep.history.size()) + 1;
             linearFailed = false;
-            systemPtr->useApproximate();
+            system.useApproximate();
             accepted = attempt();
         }
-        while (!accepted && linearFailed && systemPtr->lumping() < opt.maxLumping) {
+        while (!accepted && linearFailed && system.lumping() < opt.maxLumping) {
             // GMRES failed on the lumped system: its ILU lost stability (too little diagonal
             // dominance for this grid and CFL). More lumping restores it; keep it for the run.
-            systemPtr->setLumping(std::min(opt.maxLumping, 2.0 * systemPtr->lumping()));
-            rep.lumping = systemPtr->lumping();
+            system.setLumping(std::min(opt.maxLumping, 2.0 * system.lumping()));
+            rep.lumping = system.lumping();
             exact = false;
-            systemPtr->assemble(q.data(), r.data(), cfl, false);
+            system.assemble(q.data(), r.data(), cfl, false);
             linearFailed = false;
             accepted = attempt();
         }

@@ -193,6 +193,10 @@ public:
     bool exact() const { return exact_; }
     /// The approximate Jacobian as the system matrix from now on (same preconditioner).
     void useApproximate() { exact_ = false; }
+    /// The residual solved from now on (the switch continuation's hand-over): the exact products
+    /// and the preconditioner's approximate Jacobian follow it (its lumping is kept); assemble
+    /// again before solving. No reallocation.
+    void setResidualOptions(const ResidualOptions& o);
     double lumping() const { return approx_.dissipation.lumping; }
     void setLumping(double sigma) { approx_.dissipation.lumping = sigma; }
 

@@ -61,6 +61,8 @@ public:
                     ProductMode mode = ProductMode::ComplexStep);
     /// The state q; in Difference mode also R(q) (computed here when r is null).
     void setState(const double* q, const double* r = nullptr);
+    /// Other residual options (the switch continuation's hand-over); setState again before mult.
+    void setResidualOptions(const ResidualOptions& o) { o_ = o; }
     void mult(const double* v, double* out) const;
     long size() const { return kVars * fm_->nodeCount; }
     ProductMode mode() const { return mode_; }
