@@ -279,21 +279,6 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     int failedAt = -1;           // iteration of the exact failure being watched (-1: none)
     double bestAtFailure = 0;    // the best residual then
     bool approximateAfterFailure = false;
-    // Hands the solve from the smooth switch to the case's own (its residual at this state and a
-    // fresh stall window; the CFL law follows the higher residual down by itself).
-    auto endContinuation = [&](int it) {
-        continuing = false;
-        active = &o;
-        system.setResidualOptions(o);
-        residual(fm, metrics.data(), q.data(), o, r.data());
-        Rn = norm2(r);
-        best = Rn;
-        bestIteration = it;
-        failedAt = -1;  // (Newton, if the crawl test chose it, stays: the switch is a small change)
-        windowStart = static_cast<int>(rep.history.size());
-        rep.finalResidual = Rn;
-        rep.switchedAt = it + 1;
-    };
     // A run that stops during the continuation reports the case's own residual at its state
     // (not the smoothed problem's), so the numbers mean the same in every report.
     auto ownResidual = [&] {
@@ -301,6 +286,19 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         residual(fm, metrics.data(), q.data(), o, r.data());
         Rn = norm2(r);
         rep.finalResidual = Rn;
+    };
+    // Hands the solve from the smooth switch to the case's own (its residual at this state and a
+    // fresh stall window; the CFL law follows the higher residual down by itself).
+    auto endContinuation = [&](int it) {
+        ownResidual();
+        continuing = false;
+        active = &o;
+        system.setResidualOptions(o);
+        best = Rn;
+        bestIteration = it;
+        failedAt = -1;  // (Newton, if the crawl test chose it, stays: the switch is a small change)
+        windowStart = static_cast<int>(rep.history.size());
+        rep.switchedAt = it + 1;
     };
     for (int it = 1; it <= opt.maxIterations; ++it) {
         if (cancel && cancel->load()) {
