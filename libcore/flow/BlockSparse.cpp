@@ -74,6 +74,40 @@ void BlockSparseMatrix::multTranspose(const double* x, double* y) const {
     }
 }
 
+bool BlockSparseMatrix::transposeInPlace() {
+    std::vector<long> partner(cols.size());
+    bool symmetric = true;
+#pragma omp parallel for schedule(static) reduction(&& : symmetric)
+    for (long r = 0; r < rows; ++r) {
+        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
+            partner[b] = find(cols[b], r);
+            symmetric = symmetric && partner[b] >= 0;
+        }
+    }
+    if (!symmetric) return false;
+    // Each pair {(r, c), (c, r)} once, from its upper block (c >= r); the diagonal blocks are
+    // their own partners.
+#pragma omp parallel for schedule(static)
+    for (long r = 0; r < rows; ++r) {
+        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
+            if (cols[b] < r) continue;
+            double* a = &values[kBlockSize * b];
+            double* t = &values[kBlockSize * partner[b]];
+            double at[kBlockSize], tt[kBlockSize];
+            for (int v = 0; v < kBlock; ++v) {
+                for (int w = 0; w < kBlock; ++w) {
+                    at[kBlock * v + w] = a[kBlock * w + v];
+                    tt[kBlock * v + w] = t[kBlock * w + v];
+                }
+            }
+            std::copy(tt, tt + kBlockSize, a);
+            std::copy(at, at + kBlockSize, t);  // a diagonal block (t == a): both are its transpose
+        }
+    }
+    // transposeBlock (pattern only) stays valid: the pattern is the same.
+    return true;
+}
+
 void BlockSparseMatrix::addDiagonal(const double* d) {
 #pragma omp parallel for schedule(static)
     for (long r = 0; r < rows; ++r) {

@@ -227,6 +227,48 @@ TEST(BlockSparse, PrepareTransposeRefusesAnUnsymmetricPattern) {
     EXPECT_DOUBLE_EQ(y[5], 10.0);  // column 1: blocks (0, 1) and (1, 1)
 }
 
+// The adjoint stores J^T and the ILU of P^T instead of gathering transposed blocks: A^T in place
+// multiplies like multTranspose, twice is the original bit for bit, and the ILU of A^T solves
+// like the transposed solve of A's ILU (the incomplete factorization on a symmetric pattern with
+// a unit block-diagonal L is unique: ILU(A^T) = (ILU(A))^T), also in a partition ordering.
+TEST(BlockSparse, TransposeInPlaceIsTheTransposeAndItsIluTheTransposedIlu) {
+    const BlockSparseMatrix A = gridMatrix(10, 7, 31);
+    BlockSparseMatrix At = A;
+    ASSERT_TRUE(At.transposeInPlace());
+    const std::vector<double> x = randomVector(kBlock * A.rows, 32);
+    std::vector<double> y1(x.size()), y2(x.size());
+    A.multTranspose(x.data(), y1.data());
+    At.mult(x.data(), y2.data());
+    for (std::size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(y1[i], y2[i], 1e-13 * (1 + std::abs(y1[i]))) << i;
+    BlockSparseMatrix back = At;
+    ASSERT_TRUE(back.transposeInPlace());
+    EXPECT_EQ(back.values, A.values);
+
+    for (int fill : {0, 1}) {
+        BlockIlu ilu, iluT;
+        ilu.setSinglePrecision(false);
+        iluT.setSinglePrecision(false);
+        ilu.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
+        iluT.setOrdering(partitionOrdering(At, columnParts(At, 10, 4), 2));
+        ASSERT_TRUE(ilu.factor(A, fill));
+        ASSERT_TRUE(iluT.factor(At, fill));
+        ilu.solveTranspose(x.data(), y1.data());
+        iluT.solve(x.data(), y2.data());
+        double e = 0, s = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            e = std::max(e, std::abs(y1[i] - y2[i]));
+            s = std::max(s, std::abs(y1[i]));
+        }
+        EXPECT_LT(e, 1e-12 * s) << "fill " << fill;
+    }
+
+    BlockSparseMatrix unsymmetric = makeBlockSparse({{0, 1}, {1}});
+    for (double& v : unsymmetric.values) v = 1.0;
+    const std::vector<double> before = unsymmetric.values;
+    EXPECT_FALSE(unsymmetric.transposeInPlace());
+    EXPECT_EQ(unsymmetric.values, before);
+}
+
 TEST(BlockIlu, OrderedFactorizationNamesTheOriginalRowOfASingularPivot) {
     BlockSparseMatrix A = gridMatrix(6, 4, 13);
     const long bad = 2 + 6 * 3;  // in part 0, numbered differently in the ordering
