@@ -417,6 +417,19 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         };
     }
     f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+    const flow::FlowStatus st = f->report.status;
+    if (f->warmStarted && request.coldRetry &&
+        (st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber)) {
+        // The neighbour's state can sit in the basin of another branch after a large design step
+        // (the optimizer's 98k evaluation 13: warm, stalled at 2e-2; cold with the switch
+        // continuation, converged): the free stream is the start every cold solve survives.
+        say(format("the warm start stopped (%s after %d iterations: %s): solving again from the free stream",
+                   flow::flowStatusName(st), f->report.iterations, f->report.message.c_str()));
+        f->warmReport = std::move(f->report);
+        f->warmStarted = false;
+        q = flow::freeStreamState(f->mesh, ro.freeStream);
+        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+    }
     f->q = std::move(q);
 
     // Functionals and the fields a user checks the answer against.

@@ -73,6 +73,9 @@ struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
     bool flow = true;        // run the flow stage (if the case has a flow section)
     bool warmStart = true;   // start from the last converged flow on the same grid
+    bool coldRetry = true;   // a warm start that stalls, diverges or is not physical is solved
+                             // again from the free stream (a large design step can leave the
+                             // neighbour's state in the basin of another, unconverged branch)
     std::optional<bool> sequencing;  // without a warm start: first solve on half the grid
                                      // intervals (unset: the case's flow.grid_sequencing)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
@@ -125,7 +128,10 @@ struct FlowResult {
     flow::FlowReport report;
     flow::FlowReport coarseReport;          // the sequencing pre-solve (empty if none)
     long coarseNodes = 0;
-    bool warmStarted = false;
+    bool warmStarted = false;               // the solve that gave q started from the warm state
+    flow::FlowReport warmReport;            // a warm start that failed and was solved again from the
+                                            // free stream (EvaluationRequest::coldRetry; else empty)
+    bool coldRetry() const { return warmReport.iterations > 0 || !warmReport.message.empty(); }
     int previousIterations = 0;             // a continued restart: the iterations before this run
     int checkpoints = 0;                    // restart files written during the solve
     bool restartContinued = false;          // the restart had the same free stream: same run

@@ -600,7 +600,8 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.volume = model.volume(v);
         r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->flow) {
-            r.flowIterations = static_cast<int>(e->flow->report.iterations);
+            // A warm start solved again from the free stream (CaseEvaluator's cold retry) counts both.
+            r.flowIterations = static_cast<int>(e->flow->report.iterations + e->flow->warmReport.iterations);
             if (e->flow->warmStarted) {
                 ++summary.warmStarts;
                 summary.meanWarmFlowIterations += r.flowIterations;

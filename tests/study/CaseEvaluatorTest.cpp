@@ -163,6 +163,39 @@ TEST(CaseEvaluator, AWarmStartFromANeighbouringDesignSavesIterations) {
     EXPECT_NEAR(warmB.flow->forces.CD, coldB.flow->forces.CD, 1e-8);
 }
 
+// A warm start that fails is solved again from the free stream (the optimizer's evaluation 13 on
+// the 98k grid stalled warm and converges cold): here the warm state is made non-physical, so the
+// warm solve stops at once; the retry is the cold solve, bit for bit. Without the retry the
+// evaluation reports the warm failure.
+TEST(CaseEvaluator, AWarmStartThatFailsIsSolvedAgainFromTheFreeStream) {
+    study::CaseEvaluator ev(smallBlendedWing(), study::loadGeometry(smallBlendedWing().geometry));
+    study::EvaluationRequest cold;
+    cold.warmStart = false;
+    const study::Evaluation a = ev.evaluate(ev.caseValues(), cold);
+    ASSERT_TRUE(a.ok()) << a.message;
+    EXPECT_FALSE(a.flow->coldRetry());
+    std::vector<double> bad = a.flow->q;
+    bad[5 * 100] = -1.0;  // a negative density at node 100
+    ev.setWarmStart(bad);
+    const study::Evaluation b = ev.evaluate(ev.caseValues());
+    ASSERT_TRUE(b.ok()) << b.message;
+    EXPECT_TRUE(b.flow->coldRetry());
+    EXPECT_FALSE(b.flow->warmStarted);
+    EXPECT_EQ(b.flow->warmReport.status, flow::FlowStatus::NotANumber);
+    EXPECT_EQ(b.flow->report.iterations, a.flow->report.iterations);
+    EXPECT_EQ(b.flow->forces.CL, a.flow->forces.CL);
+    EXPECT_EQ(b.flow->forces.CD, a.flow->forces.CD);
+
+    ev.setWarmStart(bad);
+    study::EvaluationRequest noRetry;
+    noRetry.coldRetry = false;
+    const study::Evaluation c = ev.evaluate(ev.caseValues(), noRetry);
+    EXPECT_EQ(c.status, study::EvaluationStatus::FlowNotConverged);
+    EXPECT_TRUE(c.flow->warmStarted);
+    EXPECT_FALSE(c.flow->coldRetry());
+    EXPECT_NE(c.message.find("non-positive density"), std::string::npos) << c.message;
+}
+
 // The design-space robustness suite at CI size: the sample scaled by 0, 0.25, ..., 1 and the
 // first 6 random designs (seed 1, each variable up to 0.15 of its range from the sphere's value;
 // redrawn while the lattice is not injective or the grid folds) on the optimization grid's
