@@ -476,6 +476,10 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         if (f->maxMach.value > 1.0) {
             why += format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
         }
+        if (f->coldRetry()) {
+            why += format(" (solved from the free stream after the warm start stopped: %s after %d iterations)",
+                          flow::flowStatusName(f->warmReport.status), f->warmReport.iterations);
+        }
         e.message = why;
     } else {
         warm_ = f->q;
