@@ -422,7 +422,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         (st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber)) {
         // The neighbour's state can sit in the basin of another branch after a large design step
         // (the optimizer's 98k evaluation 13: warm, stalled at 2e-2; cold with the switch
-        // continuation, converged): the free stream is the start every cold solve survives.
+        // continuation, converged): the free stream is the start the cold solves are tuned for.
+        // The retry has its own iteration budget and no grid sequencing; its iterations are
+        // reported from 1 again (progress), the failed attempt is kept in warmReport.
         say(format("the warm start stopped (%s after %d iterations: %s): solving again from the free stream",
                    flow::flowStatusName(st), f->report.iterations, f->report.message.c_str()));
         f->warmReport = std::move(f->report);
