@@ -57,8 +57,6 @@ public:
     /// (dR/dq) dq = rhs.
     LinearSolveReport solveTangent(const std::vector<double>& rhs, std::vector<double>& dq) const;
 
-    /// dR/dq^T (stored transposed: the adjoint's operator).
-    const flow::BlockSparseMatrix& jacobianTranspose() const { return Jt_; }
     double secondsAssembly() const { return secondsAssembly_; }
 
 private:

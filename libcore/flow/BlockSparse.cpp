@@ -33,12 +33,15 @@ void BlockSparseMatrix::mult(const double* x, double* y) const {
 
 bool BlockSparseMatrix::prepareTranspose() {
     std::vector<long> t(cols.size());
+    bool symmetric = true;
+#pragma omp parallel for schedule(static) reduction(&& : symmetric)
     for (long r = 0; r < rows; ++r) {
         for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
             t[b] = find(cols[b], r);
-            if (t[b] < 0) return false;
+            symmetric = symmetric && t[b] >= 0;
         }
     }
+    if (!symmetric) return false;
     transposeBlock = std::move(t);
     return true;
 }
@@ -75,16 +78,8 @@ void BlockSparseMatrix::multTranspose(const double* x, double* y) const {
 }
 
 bool BlockSparseMatrix::transposeInPlace() {
-    std::vector<long> partner(cols.size());
-    bool symmetric = true;
-#pragma omp parallel for schedule(static) reduction(&& : symmetric)
-    for (long r = 0; r < rows; ++r) {
-        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
-            partner[b] = find(cols[b], r);
-            symmetric = symmetric && partner[b] >= 0;
-        }
-    }
-    if (!symmetric) return false;
+    // The partner of every block (pattern only: it stays valid for the transposed values).
+    if (static_cast<long>(transposeBlock.size()) != blockCount() && !prepareTranspose()) return false;
     // Each pair {(r, c), (c, r)} once, from its upper block (c >= r); the diagonal blocks are
     // their own partners.
 #pragma omp parallel for schedule(static)
@@ -92,7 +87,7 @@ bool BlockSparseMatrix::transposeInPlace() {
         for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
             if (cols[b] < r) continue;
             double* a = &values[kBlockSize * b];
-            double* t = &values[kBlockSize * partner[b]];
+            double* t = &values[kBlockSize * transposeBlock[b]];
             double at[kBlockSize], tt[kBlockSize];
             for (int v = 0; v < kBlock; ++v) {
                 for (int w = 0; w < kBlock; ++w) {
@@ -104,7 +99,6 @@ bool BlockSparseMatrix::transposeInPlace() {
             std::copy(at, at + kBlockSize, t);  // a diagonal block (t == a): both are its transpose
         }
     }
-    // transposeBlock (pattern only) stays valid: the pattern is the same.
     return true;
 }
 

@@ -36,7 +36,7 @@ struct BlockSparseMatrix {
     /// Replaces A by A^T in place (block (r, c) becomes block (c, r) transposed), so that products
     /// with A^T run at the speed of mult() (a gathering multTranspose reads its blocks scattered
     /// over the matrix: 4x slower at 98k nodes). Needs a structurally symmetric pattern; returns
-    /// false, and changes nothing, otherwise.
+    /// false, and changes nothing, otherwise. Prepares transposeBlock (multTranspose then gathers).
     bool transposeInPlace();
     /// A += diag(d_r I5) (d: one value per block row; every diagonal block must be stored).
     void addDiagonal(const double* d);
