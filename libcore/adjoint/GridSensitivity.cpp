@@ -3,6 +3,7 @@
 #include <cmath>
 #include <complex>
 
+#include "common/Dual.h"
 #include "common/Error.h"
 #include "flow/Jacobian.h"
 #include "flow/Metrics.h"
@@ -124,39 +125,45 @@ std::vector<std::vector<double>> residualMetricGradients(const flow::FlowMesh& f
     }
     const int radius = 2;  // the exact residual's star (flow::stencilRadius without lumping)
     const flow::StencilColouring col = flow::stencilColouring(radius);
+    using D = flow::MetricDual;  // direction k: metric value k of the colour's nodes
     const std::vector<double> normalsReal =
         (o.terms & flow::kBoundarySat) ? flow::wallJunctionNormals(fm, metrics.data()) : std::vector<double>();
-    const std::vector<C> normals(normalsReal.begin(), normalsReal.end());
+    const std::vector<D> normals(normalsReal.begin(), normalsReal.end());
     std::vector<std::vector<double>> gms(psis.size(), std::vector<double>(metrics.size(), 0.0));
-    std::vector<C> mc(metrics.size()), qc(q.begin(), q.end()), rc(q.size());
+    std::vector<D> md(metrics.size()), qd(q.begin(), q.end()), rd(q.size());
     for (int colour = 0; colour < col.count; ++colour) {
-        for (int k = 0; k < kMetricWidth; ++k) {
-            for (std::size_t i = 0; i < metrics.size(); ++i) mc[i] = metrics[i];
-            forEachNode(fm, [&](const flow::FlowBlock&, long g, const std::array<int, 3>& idx) {
-                if (col.colour(idx[0], idx[1], idx[2]) == colour) mc[kMetricWidth * g + k] += C(0.0, kStep);
-            });
-            flow::residual(fm, mc.data(), qc.data(), o, rc.data(), &normals);
-            // Column g of this colour: the rows of its star see only it among this colour's nodes.
-            forEachNode(fm, [&](const flow::FlowBlock& blk, long g, const std::array<int, 3>& idx) {
-                if (col.colour(idx[0], idx[1], idx[2]) != colour) return;
-                const long stride[3] = {1, blk.dims[0], static_cast<long>(blk.dims[0]) * blk.dims[1]};
-                for (std::size_t p = 0; p < psis.size(); ++p) {
-                    const std::vector<double>& psi = psis[p];
-                    double s = 0;
-                    auto addRow = [&](long row) {
-                        for (int v = 0; v < kVars; ++v) s += psi[kVars * row + v] * rc[kVars * row + v].imag();
-                    };
-                    addRow(g);
-                    for (int d = 0; d < 3; ++d) {
-                        for (int t = -radius; t <= radius; ++t) {
-                            if (t == 0 || idx[d] + t < 0 || idx[d] + t >= blk.dims[d]) continue;
-                            addRow(g + t * stride[d]);
-                        }
+        forEachNode(fm, [&](const flow::FlowBlock&, long g, const std::array<int, 3>& idx) {
+            const bool seeded = col.colour(idx[0], idx[1], idx[2]) == colour;
+            for (int k = 0; k < kMetricWidth; ++k) {
+                const double m = metrics[kMetricWidth * g + k];
+                md[kMetricWidth * g + k] = seeded ? D::variable(m, k) : D(m);
+            }
+        });
+        flow::residual(fm, md.data(), qd.data(), o, rd.data(), &normals);
+        // Column g of this colour: the rows of its star see only it among this colour's nodes.
+        forEachNode(fm, [&](const flow::FlowBlock& blk, long g, const std::array<int, 3>& idx) {
+            if (col.colour(idx[0], idx[1], idx[2]) != colour) return;
+            const long stride[3] = {1, blk.dims[0], static_cast<long>(blk.dims[0]) * blk.dims[1]};
+            for (std::size_t p = 0; p < psis.size(); ++p) {
+                const std::vector<double>& psi = psis[p];
+                std::array<double, kMetricWidth> s{};
+                auto addRow = [&](long row) {
+                    for (int v = 0; v < kVars; ++v) {
+                        const double w = psi[kVars * row + v];
+                        const D& r = rd[kVars * row + v];
+                        for (int k = 0; k < kMetricWidth; ++k) s[k] += w * r.d[k];
                     }
-                    gms[p][kMetricWidth * g + k] = s / kStep;
+                };
+                addRow(g);
+                for (int d = 0; d < 3; ++d) {
+                    for (int t = -radius; t <= radius; ++t) {
+                        if (t == 0 || idx[d] + t < 0 || idx[d] + t >= blk.dims[d]) continue;
+                        addRow(g + t * stride[d]);
+                    }
                 }
-            });
-        }
+                for (int k = 0; k < kMetricWidth; ++k) gms[p][kMetricWidth * g + k] = s[k];
+            }
+        });
     }
     for (std::size_t p = 0; p < psis.size(); ++p) addJunctionPart(fm, metrics, q, psis[p], o, gms[p]);
     return gms;
@@ -177,41 +184,41 @@ std::vector<std::vector<double>> metricTransposes(const flow::FlowMesh& fm, cons
                     " nodes");
     }
     std::vector<std::vector<double>> gxs(gms.size(), std::vector<double>(x.size(), 0.0));
-    std::vector<C> xc(x.size()), mc(kMetricWidth * static_cast<std::size_t>(N));
+    using D = Dual<3>;  // direction c: coordinate c of the colour's nodes
+    std::vector<D> xd(x.size()), md(kMetricWidth * static_cast<std::size_t>(N));
     auto colourOf = [](const std::array<int, 3>& idx) { return idx[0] % 3 + 3 * (idx[1] % 3) + 9 * (idx[2] % 3); };
     for (int colour = 0; colour < 27; ++colour) {
-        for (int c = 0; c < 3; ++c) {
-            for (std::size_t i = 0; i < x.size(); ++i) xc[i] = x[i];
-            forEachNode(fm, [&](const flow::FlowBlock&, long g, const std::array<int, 3>& idx) {
-                if (colourOf(idx) == colour) xc[3 * g + c] += C(0.0, kStep);
-            });
-            flow::computeMetrics(fm, xc.data(), mc.data());
-            forEachNode(fm, [&](const flow::FlowBlock& blk, long g, const std::array<int, 3>& idx) {
-                if (colourOf(idx) != colour) return;
-                for (std::size_t p = 0; p < gms.size(); ++p) {
-                    const std::vector<double>& gm = gms[p];
-                    double s = 0;
-                    for (int dk = -1; dk <= 1; ++dk) {
-                        const int k = idx[2] + dk;
-                        if (k < 0 || k >= blk.dims[2]) continue;
-                        for (int dj = -1; dj <= 1; ++dj) {
-                            const int j = idx[1] + dj;
-                            if (j < 0 || j >= blk.dims[1]) continue;
-                            for (int di = -1; di <= 1; ++di) {
-                                const int i = idx[0] + di;
-                                if (i < 0 || i >= blk.dims[0]) continue;
-                                const long n = blk.offset + i +
-                                               static_cast<long>(blk.dims[0]) * (j + static_cast<long>(blk.dims[1]) * k);
-                                for (int w = 0; w < kMetricWidth; ++w) {
-                                    s += gm[kMetricWidth * n + w] * mc[kMetricWidth * n + w].imag();
-                                }
+        forEachNode(fm, [&](const flow::FlowBlock&, long g, const std::array<int, 3>& idx) {
+            const bool seeded = colourOf(idx) == colour;
+            for (int c = 0; c < 3; ++c) xd[3 * g + c] = seeded ? D::variable(x[3 * g + c], c) : D(x[3 * g + c]);
+        });
+        flow::computeMetrics(fm, xd.data(), md.data());
+        forEachNode(fm, [&](const flow::FlowBlock& blk, long g, const std::array<int, 3>& idx) {
+            if (colourOf(idx) != colour) return;
+            for (std::size_t p = 0; p < gms.size(); ++p) {
+                const std::vector<double>& gm = gms[p];
+                std::array<double, 3> s{};
+                for (int dk = -1; dk <= 1; ++dk) {
+                    const int k = idx[2] + dk;
+                    if (k < 0 || k >= blk.dims[2]) continue;
+                    for (int dj = -1; dj <= 1; ++dj) {
+                        const int j = idx[1] + dj;
+                        if (j < 0 || j >= blk.dims[1]) continue;
+                        for (int di = -1; di <= 1; ++di) {
+                            const int i = idx[0] + di;
+                            if (i < 0 || i >= blk.dims[0]) continue;
+                            const long n = blk.offset + i +
+                                           static_cast<long>(blk.dims[0]) * (j + static_cast<long>(blk.dims[1]) * k);
+                            for (int w = 0; w < kMetricWidth; ++w) {
+                                const D& m = md[kMetricWidth * n + w];
+                                for (int c = 0; c < 3; ++c) s[c] += gm[kMetricWidth * n + w] * m.d[c];
                             }
                         }
                     }
-                    gxs[p][3 * g + c] = s / kStep;
                 }
-            });
-        }
+                for (int c = 0; c < 3; ++c) gxs[p][3 * g + c] = s[c];
+            }
+        });
     }
     return gxs;
 }

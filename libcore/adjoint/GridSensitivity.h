@@ -2,17 +2,20 @@
 // Grid sensitivities of the flow (the paper's Eq. 10, the term psi^T dR/dx + dJ/dx): the gradient
 // of L(x) = J(q, x) + psi^T R(q, x) with respect to the grid coordinates x at a fixed, converged
 // state q, in reverse order through the chain x -> metrics m -> (R, J):
-//   g_m = psi^T dR/dm + dJ/dm    coloured complex step on the metrics (the residual reaches the
+//   g_m = psi^T dR/dm + dJ/dm    coloured forward mode on the metrics: the residual in dual
+//                                numbers (common/Dual.h) with the 10 metric values of every node
+//                                of one colour seeded as 10 directions (the residual reaches the
 //                                metrics of the nodes within 2 along each grid line, the same
 //                                13-point star as the state, so the Jacobian's 13-colour
 //                                colouring separates them), with the wall junctions' normals held
 //                                fixed; their own dependence on the members' metrics is
 //                                differentiated apart (analytically: nhat = s / |s|);
-//   g_x = (dm/dx)^T g_m + dJ/dx  coloured complex step on the coordinates (a node's metrics reach
+//   g_x = (dm/dx)^T g_m + dJ/dx  coloured forward mode on the coordinates (a node's metrics reach
 //                                the coordinates within one node in every direction of its block:
-//                                27 colours).
+//                                27 colours, 3 directions each).
 // Exact to round-off (no finite differences); the cost does not depend on the number of design
-// variables: 130 complex residuals and 81 complex metric evaluations.
+// variables: 13 residuals with 10 directions and 27 metric evaluations with 3 (they replaced 130
+// complex residuals and 81 complex metric evaluations: 9.0 s -> 3.2 s on the 98k grid).
 #include <vector>
 
 #include "adjoint/Functionals.h"

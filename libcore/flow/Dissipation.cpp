@@ -148,6 +148,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
                                     const BlockView<T>&);
 AERO_INSTANTIATE(double)
 AERO_INSTANTIATE(std::complex<double>)
+AERO_INSTANTIATE(MetricDual)
 #undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -13,11 +13,16 @@
 #include <cmath>
 #include <complex>
 
+#include "common/Dual.h"
 #include "common/Scalar.h"
 
 namespace aero::flow {
 
 constexpr int kVars = 5;  // rho, rho u, rho v, rho w, rho E
+
+/// The grid sensitivities' scalar: a dual number with one direction per metric value of a node
+/// (kMetricWidth, Metrics.h); the residual and the boundary fluxes are instantiated for it.
+using MetricDual = Dual<10>;
 
 /// The interior inviscid discretization. Central: D_d(m_d . F) with nodal fluxes (the classical
 /// conservative form). EntropyConservative: the same SBP operator in flux-difference form with the

@@ -105,5 +105,6 @@ VolumeCheck checkVolumes(const FlowMesh& fm, const std::vector<double>& metrics)
 template void computeMetrics<double>(const FlowMesh&, const double*, double*);
 template void computeMetrics<std::complex<double>>(const FlowMesh&, const std::complex<double>*,
                                                    std::complex<double>*);
+template void computeMetrics<Dual<3>>(const FlowMesh&, const Dual<3>*, Dual<3>*);
 
 }  // namespace aero::flow

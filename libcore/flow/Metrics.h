@@ -7,14 +7,17 @@
 // c1 = c+1, c2 = c+2 (mod 3):  m_d[c] = D_b(x_c2 D_a x_c1) - D_a(x_c2 D_b x_c1).
 // Because the D's along different directions commute, sum_d D_d m_d = 0 holds discretely
 // (geometric conservation), so a uniform flow is a discrete steady state on any grid.
+#include <type_traits>
 #include <vector>
 
+#include "flow/Euler.h"
 #include "flow/FlowMesh.h"
 
 namespace aero::flow {
 
 /// Values per node: m_xi (3), m_eta (3), m_zeta (3) (each grad(direction)/J), then 1/J.
 constexpr int kMetricWidth = 10;
+static_assert(std::is_same_v<MetricDual, Dual<kMetricWidth>>, "MetricDual: one direction per metric value");
 
 /// metrics (kMetricWidth per node, global node order) from coordinates xyz (3 per node).
 /// 1/J is (1/3) sum_d (D_d x) . m_d. Templated for complex step on the coordinates.

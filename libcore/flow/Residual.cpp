@@ -263,5 +263,11 @@ template void residual<std::complex<double>>(const FlowMesh&, const std::complex
                                              const std::complex<double>*, const ResidualOptions&,
                                              std::complex<double>*,
                                              const std::vector<std::complex<double>>*);
+template std::vector<MetricDual> wallJunctionNormals<MetricDual>(
+    const FlowMesh&, const MetricDual*);
+template void residual<MetricDual>(const FlowMesh&, const MetricDual*,
+                                             const MetricDual*, const ResidualOptions&,
+                                             MetricDual*,
+                                             const std::vector<MetricDual>*);
 
 }  // namespace aero::flow

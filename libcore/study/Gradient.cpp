@@ -75,30 +75,34 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     const io::CaseFile& c = ev.caseFile();
     const flow::FreeStream& fs = f.residualOptions.freeStream;
 
-    auto t = std::chrono::steady_clock::now();
-    const adjoint::FlowLinearization lin(f.mesh, f.metrics, f.q, f.residualOptions, o.adjoint);
-    res.secondsLinearization = since(t);
-    if (log) log(format("assembled the exact flow Jacobian and its preconditioner: %.1f s", res.secondsLinearization));
-
-    t = std::chrono::steady_clock::now();
+    // The linearization (the Jacobian and its ILU, most of the gradient's memory) lives only
+    // while the adjoints are solved: the grid sensitivities after them need memory of their own.
     std::vector<adjoint::AdjointSolution> adj;
     auto nameOf = [&](const adjoint::Functional& b) -> std::string {
         return b == ratio ? kRatio : adjoint::functionalName(b);
     };
-    for (adjoint::Functional b : bases) {
-        adj.push_back(adjoint::solveAdjoint(lin, b, f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference));
-        res.adjoints.push_back(adj.back().report);
-        if (log) {
-            log("flow adjoint of " + nameOf(b) +
-                format(": %d GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
-                    adj.back().report.relativeResidual, adj.back().report.seconds));
+    auto t = std::chrono::steady_clock::now();
+    {
+        const adjoint::FlowLinearization lin(f.mesh, f.metrics, f.q, f.residualOptions, o.adjoint);
+        res.secondsLinearization = since(t);
+        if (log) log(format("assembled the exact flow Jacobian and its preconditioner: %.1f s", res.secondsLinearization));
+
+        t = std::chrono::steady_clock::now();
+        for (adjoint::Functional b : bases) {
+            adj.push_back(adjoint::solveAdjoint(lin, b, f.mesh, f.metrics, f.x, f.q, fs, c.flow.reference));
+            res.adjoints.push_back(adj.back().report);
+            if (log) {
+                log("flow adjoint of " + nameOf(b) +
+                    format(": %d GMRES iterations, relative residual %.2e, %.1f s", adj.back().report.iterations,
+                        adj.back().report.relativeResidual, adj.back().report.seconds));
+            }
+            if (!adj.back().report.converged()) {
+                res.message = "the flow adjoint of " + nameOf(b) + " did not converge: " + adj.back().report.message;
+                return res;
+            }
         }
-        if (!adj.back().report.converged()) {
-            res.message = "the flow adjoint of " + nameOf(b) + " did not converge: " + adj.back().report.message;
-            return res;
-        }
+        res.secondsAdjoint = since(t);
     }
-    res.secondsAdjoint = since(t);
 
     t = std::chrono::steady_clock::now();
     std::vector<std::vector<double>> psis;

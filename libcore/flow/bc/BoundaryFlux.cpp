@@ -38,5 +38,10 @@ template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>
     const std::string&, const std::string&);
 template BoundaryFluxFn<double> boundaryFlux<double>(mesh::BoundaryKind);
 template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>(mesh::BoundaryKind);
+template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(mesh::BoundaryKind,
+                                                                               InviscidScheme);
+template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(
+    const std::string&, const std::string&);
+template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(mesh::BoundaryKind);
 
 }  // namespace aero::flow

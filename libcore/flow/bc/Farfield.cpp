@@ -32,5 +32,15 @@ template void farfieldFlux<std::complex<double>>(const std::complex<double>*,
                                                  const std::complex<double>*,
                                                  const std::complex<double>*, const FreeStream&,
                                                  std::complex<double>*);
+template void entropyFarfieldFlux<MetricDual>(const MetricDual*,
+                                                        const MetricDual*,
+                                                        const MetricDual*,
+                                                        const MetricDual*, const FreeStream&,
+                                                        MetricDual*);
+template void farfieldFlux<MetricDual>(const MetricDual*,
+                                                 const MetricDual*,
+                                                 const MetricDual*,
+                                                 const MetricDual*, const FreeStream&,
+                                                 MetricDual*);
 
 }  // namespace aero::flow

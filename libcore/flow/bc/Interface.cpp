@@ -30,5 +30,15 @@ template void interfaceFlux<std::complex<double>>(const std::complex<double>*,
                                                   const std::complex<double>*,
                                                   const std::complex<double>*, const FreeStream&,
                                                   std::complex<double>*);
+template void entropyInterfaceFlux<MetricDual>(const MetricDual*,
+                                                         const MetricDual*,
+                                                         const MetricDual*,
+                                                         const MetricDual*, const FreeStream&,
+                                                         MetricDual*);
+template void interfaceFlux<MetricDual>(const MetricDual*,
+                                                  const MetricDual*,
+                                                  const MetricDual*,
+                                                  const MetricDual*, const FreeStream&,
+                                                  MetricDual*);
 
 }  // namespace aero::flow

@@ -34,5 +34,10 @@ template void slipWallFlux<std::complex<double>>(const std::complex<double>*,
                                                  const std::complex<double>*,
                                                  const std::complex<double>*, const FreeStream&,
                                                  std::complex<double>*);
+template void slipWallFlux<MetricDual>(const MetricDual*,
+                                                 const MetricDual*,
+                                                 const MetricDual*,
+                                                 const MetricDual*, const FreeStream&,
+                                                 MetricDual*);
 
 }  // namespace aero::flow

@@ -19,5 +19,10 @@ template void symmetryFlux<std::complex<double>>(const std::complex<double>*,
                                                  const std::complex<double>*,
                                                  const std::complex<double>*, const FreeStream&,
                                                  std::complex<double>*);
+template void symmetryFlux<MetricDual>(const MetricDual*,
+                                                 const MetricDual*,
+                                                 const MetricDual*,
+                                                 const MetricDual*, const FreeStream&,
+                                                 MetricDual*);
 
 }  // namespace aero::flow
