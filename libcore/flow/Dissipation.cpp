@@ -149,6 +149,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
 AERO_INSTANTIATE(double)
 AERO_INSTANTIATE(std::complex<double>)
 AERO_INSTANTIATE(MetricDual)
+AERO_INSTANTIATE(StateDual)
 #undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -23,6 +23,8 @@ constexpr int kVars = 5;  // rho, rho u, rho v, rho w, rho E
 /// The grid sensitivities' scalar: a dual number with one direction per metric value of a node
 /// (kMetricWidth, Metrics.h); the residual and the boundary fluxes are instantiated for it.
 using MetricDual = Dual<10>;
+/// The exact Jacobian's scalar: one direction per state variable of a node.
+using StateDual = Dual<kVars>;
 
 /// The interior inviscid discretization. Central: D_d(m_d . F) with nodal fluxes (the classical
 /// conservative form). EntropyConservative: the same SBP operator in flux-difference form with the

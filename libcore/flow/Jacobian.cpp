@@ -165,43 +165,49 @@ void assembleJacobian(const FlowMesh& fm, const std::vector<double>& metrics, co
     checkPattern(fm, J, radius);
     J.setZero();
     const long N = fm.nodeCount;
-    std::vector<cplx> mc(metrics.begin(), metrics.end()), qc(kVars * N), rc(kVars * N);
+    // Forward mode: the 5 state values of every node of colour c seeded as 5 directions (one
+    // residual per colour instead of 5 complex ones).
+    using D = StateDual;
+    const std::vector<D> md(metrics.begin(), metrics.end());
+    std::vector<D> qd(kVars * N), rd(kVars * N);
     ResidualOptions local = o;
     local.terms = o.terms & ~kInterfaceSat;
     for (int c = 0; c < col.count; ++c) {
-        for (int w = 0; w < kVars; ++w) {
-            for (long n = 0; n < kVars * N; ++n) qc[n] = q[n];
-            for (const FlowBlock& blk : fm.blocks) {
-                for (long n = 0; n < blk.nodeCount(); ++n) {
-                    const auto idx = nodeIndex(blk.dims, n);
-                    if (col.colour(idx[0], idx[1], idx[2]) == c) qc[kVars * (blk.offset + n) + w] += cplx(0.0, kStep);
-                }
-            }
-            residual(fm, mc.data(), qc.data(), local, rc.data());
-            // Row r's entry of colour c is the one column of that colour in its stencil.
-            for (const FlowBlock& blk : fm.blocks) {
-                const BlockView<const double> view{nullptr, blk.dims, 1};
+        for (const FlowBlock& blk : fm.blocks) {
 #pragma omp parallel for schedule(static)
-                for (long n = 0; n < blk.nodeCount(); ++n) {
-                    const auto idx = nodeIndex(blk.dims, n);
-                    long column = -1;
-                    for (int d = 0; d < 3 && column < 0; ++d) {
-                        for (int t = -radius; t <= radius; ++t) {
-                            int j[3] = {idx[0], idx[1], idx[2]};
-                            j[d] += t;
-                            if (j[d] < 0 || j[d] >= blk.dims[d]) continue;
-                            if (col.colour(j[0], j[1], j[2]) == c) {
-                                column = n + t * view.stride(d);
-                                break;
-                            }
+            for (long n = 0; n < blk.nodeCount(); ++n) {
+                const auto idx = nodeIndex(blk.dims, n);
+                const bool seeded = col.colour(idx[0], idx[1], idx[2]) == c;
+                const long g = kVars * (blk.offset + n);
+                for (int w = 0; w < kVars; ++w) qd[g + w] = seeded ? D::variable(q[g + w], w) : D(q[g + w]);
+            }
+        }
+        residual(fm, md.data(), qd.data(), local, rd.data());
+        // Row r's entry of colour c is the one column of that colour in its stencil.
+        for (const FlowBlock& blk : fm.blocks) {
+            const BlockView<const double> view{nullptr, blk.dims, 1};
+#pragma omp parallel for schedule(static)
+            for (long n = 0; n < blk.nodeCount(); ++n) {
+                const auto idx = nodeIndex(blk.dims, n);
+                long column = -1;
+                for (int d = 0; d < 3 && column < 0; ++d) {
+                    for (int t = -radius; t <= radius; ++t) {
+                        int j[3] = {idx[0], idx[1], idx[2]};
+                        j[d] += t;
+                        if (j[d] < 0 || j[d] >= blk.dims[d]) continue;
+                        if (col.colour(j[0], j[1], j[2]) == c) {
+                            column = n + t * view.stride(d);
+                            break;
                         }
                     }
-                    if (column < 0) continue;
-                    const long b = J.find(blk.offset + n, blk.offset + column);
-                    AERO_ASSERT(b >= 0);
-                    double* a = J.block(b);
-                    const cplx* r = &rc[kVars * (blk.offset + n)];
-                    for (int v = 0; v < kVars; ++v) a[kBlock * v + w] = r[v].imag() / kStep;
+                }
+                if (column < 0) continue;
+                const long b = J.find(blk.offset + n, blk.offset + column);
+                AERO_ASSERT(b >= 0);
+                double* a = J.block(b);
+                const D* r = &rd[kVars * (blk.offset + n)];
+                for (int v = 0; v < kVars; ++v) {
+                    for (int w = 0; w < kVars; ++w) a[kBlock * v + w] = r[v].d[w];
                 }
             }
         }

@@ -1,13 +1,14 @@
 #pragma once
 // The flow Jacobian dR/dq as a 5x5-block sparse matrix, and exact Jacobian-vector products.
 //
-// Exact assembly is by complex step with a colouring of the stencil: R at a node depends on the
+// Exact assembly is by forward mode with a colouring of the stencil: R at a node depends on the
 // nodes within 2 along each grid line of its block (13-point star: central fluxes, the fourth
 // difference, the pressure switch) and, through interface SATs, on its coincident partners. The
 // block-local part is differentiated with all nodes of one colour perturbed at once (a linear
 // colouring (i + a j + b k) mod P whose equal colours never share a row: 13 colours for the
-// 13-point star, 7 for the 7-point one), 5 complex residuals per colour; the interface SATs,
-// pointwise in (q_A, q_B), are differentiated pair by pair.
+// 13-point star, 7 for the 7-point one), one residual in dual numbers per colour (StateDual: the
+// node's 5 state values as 5 directions; it replaced 5 complex residuals per colour); the
+// interface SATs, pointwise in (q_A, q_B), are differentiated pair by pair by complex step.
 #include <complex>
 #include <vector>
 
@@ -33,7 +34,7 @@ int stencilRadius(const ResidualOptions& o);
 /// and to its interface partners; block rows/columns in the global node order.
 BlockSparseMatrix jacobianPattern(const FlowMesh& fm, int radius);
 
-/// J = dR/dq at q, exact to round-off (complex step with colouring). J must have a pattern with
+/// J = dR/dq at q, exact to round-off (forward mode with colouring). J must have a pattern with
 /// at least stencilRadius(o) (from jacobianPattern); its values are overwritten.
 void assembleJacobian(const FlowMesh& fm, const std::vector<double>& metrics, const double* q,
                       const ResidualOptions& o, BlockSparseMatrix& J);

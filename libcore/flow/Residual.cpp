@@ -269,5 +269,11 @@ template void residual<MetricDual>(const FlowMesh&, const MetricDual*,
                                              const MetricDual*, const ResidualOptions&,
                                              MetricDual*,
                                              const std::vector<MetricDual>*);
+template std::vector<StateDual> wallJunctionNormals<StateDual>(
+    const FlowMesh&, const StateDual*);
+template void residual<StateDual>(const FlowMesh&, const StateDual*,
+                                             const StateDual*, const ResidualOptions&,
+                                             StateDual*,
+                                             const std::vector<StateDual>*);
 
 }  // namespace aero::flow

@@ -43,5 +43,10 @@ template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(mesh::BoundaryKind,
 template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(
     const std::string&, const std::string&);
 template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(mesh::BoundaryKind);
+template BoundaryFluxFn<StateDual> boundaryFlux<StateDual>(mesh::BoundaryKind,
+                                                                               InviscidScheme);
+template BoundaryFluxFn<StateDual> boundaryFlux<StateDual>(
+    const std::string&, const std::string&);
+template BoundaryFluxFn<StateDual> boundaryFlux<StateDual>(mesh::BoundaryKind);
 
 }  // namespace aero::flow

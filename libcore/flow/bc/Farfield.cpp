@@ -42,5 +42,15 @@ template void farfieldFlux<MetricDual>(const MetricDual*,
                                                  const MetricDual*,
                                                  const MetricDual*, const FreeStream&,
                                                  MetricDual*);
+template void entropyFarfieldFlux<StateDual>(const StateDual*,
+                                                        const StateDual*,
+                                                        const StateDual*,
+                                                        const StateDual*, const FreeStream&,
+                                                        StateDual*);
+template void farfieldFlux<StateDual>(const StateDual*,
+                                                 const StateDual*,
+                                                 const StateDual*,
+                                                 const StateDual*, const FreeStream&,
+                                                 StateDual*);
 
 }  // namespace aero::flow

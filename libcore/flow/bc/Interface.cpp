@@ -40,5 +40,15 @@ template void interfaceFlux<MetricDual>(const MetricDual*,
                                                   const MetricDual*,
                                                   const MetricDual*, const FreeStream&,
                                                   MetricDual*);
+template void entropyInterfaceFlux<StateDual>(const StateDual*,
+                                                         const StateDual*,
+                                                         const StateDual*,
+                                                         const StateDual*, const FreeStream&,
+                                                         StateDual*);
+template void interfaceFlux<StateDual>(const StateDual*,
+                                                  const StateDual*,
+                                                  const StateDual*,
+                                                  const StateDual*, const FreeStream&,
+                                                  StateDual*);
 
 }  // namespace aero::flow

@@ -39,5 +39,10 @@ template void slipWallFlux<MetricDual>(const MetricDual*,
                                                  const MetricDual*,
                                                  const MetricDual*, const FreeStream&,
                                                  MetricDual*);
+template void slipWallFlux<StateDual>(const StateDual*,
+                                                 const StateDual*,
+                                                 const StateDual*,
+                                                 const StateDual*, const FreeStream&,
+                                                 StateDual*);
 
 }  // namespace aero::flow

@@ -24,5 +24,10 @@ template void symmetryFlux<MetricDual>(const MetricDual*,
                                                  const MetricDual*,
                                                  const MetricDual*, const FreeStream&,
                                                  MetricDual*);
+template void symmetryFlux<StateDual>(const StateDual*,
+                                                 const StateDual*,
+                                                 const StateDual*,
+                                                 const StateDual*, const FreeStream&,
+                                                 StateDual*);
 
 }  // namespace aero::flow
