@@ -77,7 +77,9 @@ LinearSolveReport FlowLinearization::solve(bool transpose, const std::vector<dou
     };
     const flow::GmresReport g =
         flow::gmres(n_, A, M, rhs.data(), x.data(),
-                    {opt_.gmresRestart, opt_.maxIterations, opt_.tolerance, 0.0, opt_.gmresDeflation}, &krylov_);
+                    {opt_.gmresRestart, opt_.maxIterations, opt_.tolerance, 0.0, opt_.gmresDeflation,
+                     opt_.singleBasis},
+                    &krylov_);
     rep.iterations = g.iterations;
     // The true residual, not GMRES's estimate.
     std::vector<double> r(n_);

@@ -27,6 +27,10 @@ struct AdjointOptions {
     int gmresRestart = 60;
     int gmresDeflation = 20;    // harmonic Ritz vectors kept over a restart (GMRES-DR: 326 instead
                                 // of 820 products for the 98k blended wing's CL adjoint)
+    bool singleBasis = false;   // the Krylov basis in float (flow::GmresOptions::singleBasis): not
+                                // for the adjoint's 1e-10 with deflated restarts (98k blended
+                                // wing: 504 products against 329, the carried Arnoldi relations
+                                // hold only to float round-off)
     int maxIterations = 3000;   // matrix products in all
     double cfl = 1e6;           // of the preconditioner's pseudo-time diagonal (the adjoint itself
                                 // is steady: only the preconditioner sees it)

@@ -45,6 +45,11 @@ struct NewtonOptions {
     int gmresDeflation = 20;           // harmonic Ritz vectors kept over a restart (GMRES-DR: on the
                                        // 98k blended wing a steady system to 1e-10 takes 415 products
                                        // against > 3000 with plain GMRES(60); docs/performance.md)
+    bool gmresSingleBasis = false;     // the Krylov basis in float (GmresOptions::singleBasis): the
+                                       // same iterations on the 98k samples and 17 % less memory,
+                                       // but a different path on hard designs (one random design
+                                       // of the robustness suite stalls with it); opt-in for
+                                       // grids where memory is the limit (docs/performance.md)
     ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
                                        // products: a real residual's difference (3.5x cheaper than
                                        // a complex one; Jacobian.h) or complex step

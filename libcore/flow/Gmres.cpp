@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <numeric>
+#include <type_traits>
 
 namespace aero::flow {
 
@@ -44,8 +45,8 @@ double dot(long n, const double* a, const double* b, std::vector<double>& partia
 // the first pass cancelled most of w (the Daniel-Gragg-Kaufman-Stewart test: ||w|| fell below
 // 1/sqrt(2) of its length before; "twice is enough"). Returns ||w||. Each pass is one sweep over
 // the basis for the dot products and one for the update, in fixed row chunks.
-double orthogonalize(long n, const std::vector<double*>& V, int k, double* w, double* h,
-                     std::vector<double>& partial) {
+template <class B>
+double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double* h, std::vector<double>& partial) {
     const long chunks = chunkCount(n);
     const int width = k + 1;  // k dot products and the squared norm
     partial.assign(static_cast<std::size_t>(chunks * width), 0.0);
@@ -56,9 +57,9 @@ double orthogonalize(long n, const std::vector<double*>& V, int k, double* w, do
         for (long c = 0; c < chunks; ++c) {
             const long first = c * kChunk, end = std::min(n, first + kChunk);
             for (int i = 0; i < k; ++i) {
-                const double* v = V[i];
+                const B* v = V[i];
                 double s = 0;
-                for (long l = first; l < end; ++l) s += v[l] * w[l];
+                for (long l = first; l < end; ++l) s += static_cast<double>(v[l]) * w[l];
                 partial[static_cast<std::size_t>(c * width + i)] = s;
             }
             double s = 0;
@@ -73,9 +74,9 @@ double orthogonalize(long n, const std::vector<double*>& V, int k, double* w, do
         for (long c = 0; c < chunks; ++c) {
             const long first = c * kChunk, end = std::min(n, first + kChunk);
             for (int i = 0; i < k; ++i) {
-                const double* v = V[i];
+                const B* v = V[i];
                 const double gi = g[i];
-                for (long l = first; l < end; ++l) w[l] -= gi * v[l];
+                for (long l = first; l < end; ++l) w[l] -= gi * static_cast<double>(v[l]);
             }
             double s = 0;
             for (long l = first; l < end; ++l) s += w[l] * w[l];
@@ -104,15 +105,16 @@ void scale(long n, double* v, double a) {
 }
 
 // out = sum_i coef[i] V_i over the first `count` vectors (out may not alias a V_i).
-void combine(long n, const std::vector<double*>& V, int count, const double* coef, double* out) {
+template <class B>
+void combine(long n, const std::vector<B*>& V, int count, const double* coef, double* out) {
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < chunkCount(n); ++c) {
         const long first = c * kChunk, end = std::min(n, first + kChunk);
         for (long l = first; l < end; ++l) out[l] = 0;
         for (int i = 0; i < count; ++i) {
-            const double* v = V[i];
+            const B* v = V[i];
             const double a = coef[i];
-            for (long l = first; l < end; ++l) out[l] += a * v[l];
+            for (long l = first; l < end; ++l) out[l] += a * static_cast<double>(v[l]);
         }
     }
 }
@@ -121,7 +123,8 @@ void combine(long n, const std::vector<double*>& V, int count, const double* coe
 // block by row block through a small buffer, so the new basis needs no second set of vectors
 // (on the 903k-node grid that set was 21 vectors, 760 MB). Each value is summed in the same order
 // as combine() would, so the result is the same to the bit.
-void combineInPlace(long n, const std::vector<double*>& V, const Eigen::MatrixXd& Q) {
+template <class B>
+void combineInPlace(long n, const std::vector<B*>& V, const Eigen::MatrixXd& Q) {
     const int rows = static_cast<int>(Q.rows()), cols = static_cast<int>(Q.cols());
 #pragma omp parallel
     {
@@ -133,13 +136,15 @@ void combineInPlace(long n, const std::vector<double*>& V, const Eigen::MatrixXd
                 double* out = &buffer[static_cast<std::size_t>(i) * kChunk];
                 for (long l = 0; l < len; ++l) out[l] = 0;
                 for (int j = 0; j < rows; ++j) {
-                    const double* v = V[j] + first;
+                    const B* v = V[j] + first;
                     const double a = Q(j, i);
-                    for (long l = 0; l < len; ++l) out[l] += a * v[l];
+                    for (long l = 0; l < len; ++l) out[l] += a * static_cast<double>(v[l]);
                 }
             }
             for (int i = 0; i < cols; ++i) {
-                std::copy_n(&buffer[static_cast<std::size_t>(i) * kChunk], len, V[i] + first);
+                const double* in = &buffer[static_cast<std::size_t>(i) * kChunk];
+                B* out = V[i] + first;
+                for (long l = 0; l < len; ++l) out[l] = static_cast<B>(in[l]);
             }
         }
     }
@@ -191,16 +196,33 @@ Eigen::MatrixXd harmonicRitzVectors(const Eigen::MatrixXd& Hbar, int m, int want
 
 }  // namespace
 
-void GmresWorkspace::reserve(long n, int vectors) {
+void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     if (n != n_) {
         basis_.clear();
+        single_.clear();
         n_ = n;
     }
     while (static_cast<int>(basis_.size()) < vectors) basis_.emplace_back(static_cast<std::size_t>(n));
+    while (static_cast<int>(single_.size()) < singleVectors) single_.emplace_back(static_cast<std::size_t>(n));
 }
 
-GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* b, double* x,
-                  const GmresOptions& o, GmresWorkspace* workspace) {
+namespace {
+
+// The basis vectors of type B: the workspace's double vectors after the `first` work vectors, or
+// its float ones.
+template <class B>
+B* basisVector(GmresWorkspace& ws, int first, int i) {
+    if constexpr (std::is_same_v<B, double>) {
+        return ws.vector(first + i);
+    } else {
+        return ws.singleVector(i);
+    }
+}
+
+template <class B>
+GmresReport gmresWith(long n, const LinearMap& A, const LinearMap& M, const double* b, double* x,
+                      const GmresOptions& o, GmresWorkspace* workspace) {
+    constexpr bool kDouble = std::is_same_v<B, double>;
     GmresReport rep;
     const int m = std::max(1, o.restart);
     const int deflation = std::clamp(o.deflation, 0, std::max(0, m - 2));
@@ -215,12 +237,25 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
     GmresWorkspace local;
     GmresWorkspace& ws = workspace ? *workspace : local;
     // m + 1 basis vectors, z, and with deflation one scratch vector for the update of x (V[m]
-    // must survive it: the deflated restart's new basis is built from all m + 1).
-    ws.reserve(n, m + 2 + (deflation > 0 ? 1 : 0));
-    std::vector<double*> V(m + 1);
-    for (int i = 0; i <= m; ++i) V[i] = ws.vector(i);
-    double* z = ws.vector(m + 1);
-    double* scratch = deflation > 0 ? ws.vector(m + 2) : V[m];
+    // must survive it: the deflated restart's new basis is built from all m + 1). A float basis
+    // needs two double work vectors besides: w, the new Arnoldi vector before it is stored, and
+    // the scratch (w is free when x is updated).
+    const int work = kDouble ? 0 : 2;
+    ws.reserve(n, work + (kDouble ? m + 2 + (deflation > 0 ? 1 : 0) : 1), kDouble ? 0 : m + 1);
+    std::vector<B*> V(m + 1);
+    for (int i = 0; i <= m; ++i) V[i] = basisVector<B>(ws, 0, i);
+    double* z = kDouble ? ws.vector(m + 1) : ws.vector(0);
+    double* w = kDouble ? nullptr : ws.vector(1);
+    double* scratch = kDouble ? (deflation > 0 ? ws.vector(m + 2) : ws.vector(m)) : ws.vector(2);
+    // v -> double (in `to`) and double -> v (float basis only).
+    auto widen = [n](const B* v, double* to) {
+#pragma omp parallel for schedule(static)
+        for (long l = 0; l < n; ++l) to[l] = static_cast<double>(v[l]);
+    };
+    auto store = [n](const double* from, double a, B* v) {
+#pragma omp parallel for schedule(static)
+        for (long l = 0; l < n; ++l) v[l] = static_cast<B>(a * from[l]);
+    };
 
     Eigen::MatrixXd Hbar = Eigen::MatrixXd::Zero(m + 1, m);
     Eigen::VectorXd c = Eigen::VectorXd::Zero(m + 1), y;
@@ -232,16 +267,21 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
     while (rep.iterations < o.maxIterations) {
         if (fresh) {
             // r = b - A x
-            A(x, V[0]);
+            double* r = kDouble ? reinterpret_cast<double*>(V[0]) : w;
+            A(x, r);
 #pragma omp parallel for schedule(static)
-            for (long i = 0; i < n; ++i) V[0][i] = b[i] - V[0][i];
-            const double beta = std::sqrt(dot(n, V[0], V[0], partial));
+            for (long i = 0; i < n; ++i) r[i] = b[i] - r[i];
+            const double beta = std::sqrt(dot(n, r, r, partial));
             rep.relativeResidual = beta / bnorm;
             if (rep.relativeResidual <= o.tolerance) {
                 rep.converged = true;
                 return rep;
             }
-            scale(n, V[0], 1.0 / beta);
+            if constexpr (kDouble) {
+                scale(n, r, 1.0 / beta);
+            } else {
+                store(r, 1.0 / beta, V[0]);
+            }
             deflated = false;
             Hbar.setZero();
             c.setZero();
@@ -252,16 +292,30 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
         Eigen::HouseholderQR<Eigen::MatrixXd> qr;
         for (; j < m && rep.iterations < o.maxIterations; ++j) {
             ++rep.iterations;
-            if (M) {
-                M(V[j], z);
-                A(z, V[j + 1]);
+            double hn = 0;
+            if constexpr (kDouble) {
+                if (M) {
+                    M(V[j], z);
+                    A(z, V[j + 1]);
+                } else {
+                    A(V[j], V[j + 1]);
+                }
+                hn = orthogonalize(n, V, j + 1, V[j + 1], h.data(), partial);
+                if (hn > 0) scale(n, V[j + 1], 1.0 / hn);
             } else {
-                A(V[j], V[j + 1]);
+                widen(V[j], w);
+                if (M) {
+                    M(w, z);
+                    A(z, w);
+                } else {
+                    A(w, z);
+                    std::swap(w, z);
+                }
+                hn = orthogonalize(n, V, j + 1, w, h.data(), partial);
+                store(w, hn > 0 ? 1.0 / hn : 0.0, V[j + 1]);
             }
-            const double hn = orthogonalize(n, V, j + 1, V[j + 1], h.data(), partial);
             for (int i = 0; i <= j; ++i) Hbar(i, j) = h[i];
             Hbar(j + 1, j) = hn;
-            if (hn > 0) scale(n, V[j + 1], 1.0 / hn);
             // min || c - Hbar y || over the first j + 1 columns: its residual is the last entry
             // of Q^T c (no cancellation, unlike forming c - Hbar y).
             qr.compute(Hbar.topLeftCorner(j + 2, j + 1));
@@ -288,13 +342,15 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
         }
         // (Without deflation V[m] was the scratch: harmless, it is rebuilt or the cycle ends.)
         if (rep.relativeResidual <= o.tolerance) {
-            if (!deflated) {
+            if (!deflated && kDouble) {
                 rep.converged = true;
                 return rep;
             }
             // After deflated restarts the estimate is the small problem's, carried over cycles
-            // whose Arnoldi relations hold only to round-off times their conditioning: check the
-            // true residual and, if it is off, go on with plain restarts from it.
+            // whose Arnoldi relations hold only to round-off times their conditioning; with a
+            // float basis they hold only to float round-off times the conditioning (a grid
+            // system's estimate said 1e-12 where the truth was 6e-8): check the true residual
+            // and, if it is off, go on with restarts from it (plain ones after deflated cycles).
             A(x, z);
 #pragma omp parallel for schedule(static)
             for (long l = 0; l < n; ++l) z[l] = b[l] - z[l];
@@ -304,8 +360,8 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
                 rep.converged = true;
                 return rep;
             }
+            if (deflated) useDeflation = false;
             deflated = false;
-            useDeflation = false;
         }
         if (o.hopeless > 0 && rep.iterations < o.maxIterations) {
             const double rate = std::log(std::max(rep.relativeResidual, 1e-300)) / rep.iterations;
@@ -350,6 +406,14 @@ GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* 
         }
     }
     return rep;
+}
+
+}  // namespace
+
+GmresReport gmres(long n, const LinearMap& A, const LinearMap& M, const double* b, double* x,
+                  const GmresOptions& o, GmresWorkspace* workspace) {
+    return o.singleBasis ? gmresWith<float>(n, A, M, b, x, o, workspace)
+                         : gmresWith<double>(n, A, M, b, x, o, workspace);
 }
 
 }  // namespace aero::flow

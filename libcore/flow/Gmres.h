@@ -27,6 +27,10 @@ struct GmresOptions {
                                // rejects such results saves the remaining cycles)
     int deflation = 0;         // > 0: harmonic Ritz vectors kept over a restart (GMRES-DR(m, k));
                                // must be below restart - 1 to leave room for new vectors
+    bool singleBasis = false;  // the Krylov basis stored in float: half the basis memory and half
+                               // the orthogonalization's memory traffic; the products, the
+                               // Gram-Schmidt sums, x and the residual at each restart stay
+                               // double, so a restart recovers full accuracy (docs/performance.md)
 };
 
 struct GmresReport {
@@ -40,14 +44,18 @@ struct GmresReport {
 /// GMRES on 98k nodes would otherwise allocate and clear 60 vectors of 491k values every time).
 class GmresWorkspace {
 public:
-    void reserve(long n, int vectors);
+    /// At least `vectors` double and `singleVectors` float vectors of length n.
+    void reserve(long n, int vectors, int singleVectors = 0);
     double* vector(int i) { return basis_[static_cast<std::size_t>(i)].data(); }
+    float* singleVector(int i) { return single_[static_cast<std::size_t>(i)].data(); }
     long size() const { return n_; }
     int vectors() const { return static_cast<int>(basis_.size()); }
+    int singleVectors() const { return static_cast<int>(single_.size()); }
 
 private:
     long n_ = 0;
     std::vector<std::vector<double>> basis_;
+    std::vector<std::vector<float>> single_;
 };
 
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner

@@ -238,6 +238,10 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         o.push_back(integer<FlowCase>("gmres_deflation", 0, 200, [](FlowCase& c) -> int& { return c.newton.gmresDeflation; },
                             "harmonic Ritz vectors a Newton step's GMRES keeps over a restart (GMRES-DR; 0: plain "
                             "restarts); below gmres_restart - 1"));
+        o.push_back(boolean<FlowCase>("gmres_single_basis", [](FlowCase& c) -> bool& { return c.newton.gmresSingleBasis; },
+                            "store a Newton step's Krylov basis in single precision (half its memory: 5 x 4 bytes per "
+                            "grid node and vector; products, sums and restarts stay double): for grids where memory "
+                            "is the limit"));
         o.push_back(real<FlowCase>("lumping", "", 0, false, 1000, false,
                                    [](FlowCase& c) -> double& { return c.dissipation.lumping; },
                                    "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "
