@@ -267,7 +267,8 @@ GmresReport gmresWith(long n, const LinearMap& A, const LinearMap& M, const doub
     while (rep.iterations < o.maxIterations) {
         if (fresh) {
             // r = b - A x
-            double* r = kDouble ? reinterpret_cast<double*>(V[0]) : w;
+            double* r = w;  // a float basis: r in the double work vector, stored scaled in V[0]
+            if constexpr (kDouble) r = V[0];
             A(x, r);
 #pragma omp parallel for schedule(static)
             for (long i = 0; i < n; ++i) r[i] = b[i] - r[i];
