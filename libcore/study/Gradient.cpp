@@ -1,5 +1,6 @@
 #include "study/Gradient.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -67,8 +68,15 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     // instead of one for CL and one for CD.
     const double CL = f.forces.CL, CD = f.forces.CD;
     const adjoint::Functional ratio = adjoint::Functional::forceCombination(1.0 / CD, -CL / (CD * CD));
+    // With CL and CD requested too, CL/CD's gradient is their quotient rule's combination (the
+    // adjoint systems are linear in the right-hand side, so its own adjoint would be this same
+    // combination of theirs): one adjoint fewer.
+    const bool ratioFromParts =
+        std::find(o.functionals.begin(), o.functionals.end(), "CL") != o.functionals.end() &&
+        std::find(o.functionals.begin(), o.functionals.end(), "CD") != o.functionals.end();
     for (const std::string& name : o.functionals) {
         checkGradientFunctional(name);
+        if (name == kRatio && ratioFromParts) continue;
         need(name == kRatio ? ratio : byName(name));
     }
     const MeshResult& m = *e.mesh;
@@ -206,7 +214,30 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         }
         throw Error("gradient: missing base functional");
     };
-    for (const std::string& name : o.functionals) res.functionals.push_back(baseOf(name == kRatio ? ratio : byName(name)));
+    // (1/CD) dCL - (CL/CD^2) dCD, for every part of the gradient.
+    auto quotient = [&](const FunctionalGradient& L, const FunctionalGradient& D) {
+        const double a = 1.0 / D.value, b = -L.value / (D.value * D.value);
+        auto mix = [&](const std::vector<double>& x, const std::vector<double>& y) {
+            std::vector<double> out(x.size());
+            for (std::size_t i = 0; i < x.size(); ++i) out[i] = a * x[i] + b * y[i];
+            return out;
+        };
+        FunctionalGradient r;
+        r.name = kRatio;
+        r.value = L.value / D.value;
+        r.dv = mix(L.dv, D.dv);
+        r.dalpha = a * L.dalpha + b * D.dalpha;
+        r.dUnique = mix(L.dUnique, D.dUnique);
+        for (std::size_t l = 0; l < L.dLattice.size(); ++l) r.dLattice.push_back(mix(L.dLattice[l], D.dLattice[l]));
+        return r;
+    };
+    for (const std::string& name : o.functionals) {
+        if (name == kRatio && ratioFromParts) {
+            res.functionals.push_back(quotient(baseOf(adjoint::Functional::CL), baseOf(adjoint::Functional::CD)));
+        } else {
+            res.functionals.push_back(baseOf(name == kRatio ? ratio : byName(name)));
+        }
+    }
     if (o.cornerRatioRho > 0) {
         FunctionalGradient r;
         r.name = kCornerRatio;
