@@ -208,12 +208,11 @@ void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
 
 namespace {
 
-// The basis vectors of type B: the workspace's double vectors after the `first` work vectors, or
-// its float ones.
+// Basis vector i of type B: the workspace's double vector i, or its float vector i.
 template <class B>
-B* basisVector(GmresWorkspace& ws, int first, int i) {
+B* basisVector(GmresWorkspace& ws, int i) {
     if constexpr (std::is_same_v<B, double>) {
-        return ws.vector(first + i);
+        return ws.vector(i);
     } else {
         return ws.singleVector(i);
     }
@@ -240,10 +239,9 @@ GmresReport gmresWith(long n, const LinearMap& A, const LinearMap& M, const doub
     // must survive it: the deflated restart's new basis is built from all m + 1). A float basis
     // needs two double work vectors besides: w, the new Arnoldi vector before it is stored, and
     // the scratch (w is free when x is updated).
-    const int work = kDouble ? 0 : 2;
-    ws.reserve(n, work + (kDouble ? m + 2 + (deflation > 0 ? 1 : 0) : 1), kDouble ? 0 : m + 1);
+    ws.reserve(n, kDouble ? m + 2 + (deflation > 0 ? 1 : 0) : 3, kDouble ? 0 : m + 1);
     std::vector<B*> V(m + 1);
-    for (int i = 0; i <= m; ++i) V[i] = basisVector<B>(ws, 0, i);
+    for (int i = 0; i <= m; ++i) V[i] = basisVector<B>(ws, i);
     double* z = kDouble ? ws.vector(m + 1) : ws.vector(0);
     double* w = kDouble ? nullptr : ws.vector(1);
     double* scratch = kDouble ? (deflation > 0 ? ws.vector(m + 2) : ws.vector(m)) : ws.vector(2);
