@@ -20,7 +20,6 @@ struct Dual {
 
     Dual() = default;
     Dual(double x) : v(x) {}  // NOLINT(google-explicit-constructor): constants mix freely
-    Dual(double x, const std::array<double, N>& dx) : v(x), d(dx) {}
 
     /// x + eps_k.
     static Dual variable(double x, int k) {
@@ -126,11 +125,6 @@ inline Dual<N> sqrt(const Dual<N>& x) {
 template <int N>
 inline Dual<N> log(const Dual<N>& x) {
     return chain(x, std::log(x.v), 1.0 / x.v);
-}
-template <int N>
-inline Dual<N> exp(const Dual<N>& x) {
-    const double e = std::exp(x.v);
-    return chain(x, e, e);
 }
 template <int N>
 inline Dual<N> atanh(const Dual<N>& x) {

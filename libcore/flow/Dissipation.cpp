@@ -146,10 +146,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
     template void addDissipation<T>(const BlockView<const T>&, const BlockView<const T>&,         \
                                     const DissipationOptions&, double, bool, bool,                 \
                                     const BlockView<T>&);
-AERO_INSTANTIATE(double)
-AERO_INSTANTIATE(std::complex<double>)
-AERO_INSTANTIATE(MetricDual)
-AERO_INSTANTIATE(StateDual)
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
 #undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

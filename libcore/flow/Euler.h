@@ -26,6 +26,10 @@ using MetricDual = Dual<10>;
 /// The exact Jacobian's scalar: one direction per state variable of a node.
 using StateDual = Dual<kVars>;
 
+/// X(T) for every scalar type the residual, the dissipation and the boundary fluxes are
+/// instantiated for (each .cpp defines X as its explicit instantiations of T).
+#define AERO_FLOW_SCALARS(X) X(double) X(std::complex<double>) X(MetricDual) X(StateDual)
+
 /// The interior inviscid discretization. Central: D_d(m_d . F) with nodal fluxes (the classical
 /// conservative form). EntropyConservative: the same SBP operator in flux-difference form with the
 /// two-point flux F_ec(q_i, q_i+1, (m_i + m_i+1)/2) between neighbours (below), and the

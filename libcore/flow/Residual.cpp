@@ -254,26 +254,11 @@ std::vector<double> freeStreamState(const FlowMesh& fm, const FreeStream& fs) {
     return q;
 }
 
-template std::vector<double> wallJunctionNormals<double>(const FlowMesh&, const double*);
-template std::vector<std::complex<double>> wallJunctionNormals<std::complex<double>>(
-    const FlowMesh&, const std::complex<double>*);
-template void residual<double>(const FlowMesh&, const double*, const double*,
-                               const ResidualOptions&, double*, const std::vector<double>*);
-template void residual<std::complex<double>>(const FlowMesh&, const std::complex<double>*,
-                                             const std::complex<double>*, const ResidualOptions&,
-                                             std::complex<double>*,
-                                             const std::vector<std::complex<double>>*);
-template std::vector<MetricDual> wallJunctionNormals<MetricDual>(
-    const FlowMesh&, const MetricDual*);
-template void residual<MetricDual>(const FlowMesh&, const MetricDual*,
-                                             const MetricDual*, const ResidualOptions&,
-                                             MetricDual*,
-                                             const std::vector<MetricDual>*);
-template std::vector<StateDual> wallJunctionNormals<StateDual>(
-    const FlowMesh&, const StateDual*);
-template void residual<StateDual>(const FlowMesh&, const StateDual*,
-                                             const StateDual*, const ResidualOptions&,
-                                             StateDual*,
-                                             const std::vector<StateDual>*);
+#define AERO_INSTANTIATE(T)                                                                        \
+    template std::vector<T> wallJunctionNormals<T>(const FlowMesh&, const T*);                     \
+    template void residual<T>(const FlowMesh&, const T*, const T*, const ResidualOptions&, T*,     \
+                              const std::vector<T>*);
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
+#undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -30,23 +30,11 @@ BoundaryFluxFn<T> boundaryFlux(mesh::BoundaryKind kind, InviscidScheme scheme) {
     return boundaryFlux<T>(kind);
 }
 
-template BoundaryFluxFn<double> boundaryFlux<double>(mesh::BoundaryKind, InviscidScheme);
-template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>(mesh::BoundaryKind,
-                                                                               InviscidScheme);
-template BoundaryFluxFn<double> boundaryFlux<double>(const std::string&, const std::string&);
-template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>(
-    const std::string&, const std::string&);
-template BoundaryFluxFn<double> boundaryFlux<double>(mesh::BoundaryKind);
-template BoundaryFluxFn<std::complex<double>> boundaryFlux<std::complex<double>>(mesh::BoundaryKind);
-template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(mesh::BoundaryKind,
-                                                                               InviscidScheme);
-template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(
-    const std::string&, const std::string&);
-template BoundaryFluxFn<MetricDual> boundaryFlux<MetricDual>(mesh::BoundaryKind);
-template BoundaryFluxFn<StateDual> boundaryFlux<StateDual>(mesh::BoundaryKind,
-                                                                               InviscidScheme);
-template BoundaryFluxFn<StateDual> boundaryFlux<StateDual>(
-    const std::string&, const std::string&);
-template BoundaryFluxFn<StateDual> boundaryFlux<StateDual>(mesh::BoundaryKind);
+#define AERO_INSTANTIATE(T)                                                                        \
+    template BoundaryFluxFn<T> boundaryFlux<T>(mesh::BoundaryKind, InviscidScheme);                \
+    template BoundaryFluxFn<T> boundaryFlux<T>(const std::string&, const std::string&);            \
+    template BoundaryFluxFn<T> boundaryFlux<T>(mesh::BoundaryKind);
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
+#undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -18,39 +18,10 @@ void entropyFarfieldFlux(const T* q, const T*, const T* n, const T*, const FreeS
     entropyUpwindFlux(q, qinf, n, fs.gamma, flux);
 }
 
-template void entropyFarfieldFlux<double>(const double*, const double*, const double*, const double*,
-                                          const FreeStream&, double*);
-template void entropyFarfieldFlux<std::complex<double>>(const std::complex<double>*,
-                                                        const std::complex<double>*,
-                                                        const std::complex<double>*,
-                                                        const std::complex<double>*, const FreeStream&,
-                                                        std::complex<double>*);
-template void farfieldFlux<double>(const double*, const double*, const double*, const double*,
-                                   const FreeStream&, double*);
-template void farfieldFlux<std::complex<double>>(const std::complex<double>*,
-                                                 const std::complex<double>*,
-                                                 const std::complex<double>*,
-                                                 const std::complex<double>*, const FreeStream&,
-                                                 std::complex<double>*);
-template void entropyFarfieldFlux<MetricDual>(const MetricDual*,
-                                                        const MetricDual*,
-                                                        const MetricDual*,
-                                                        const MetricDual*, const FreeStream&,
-                                                        MetricDual*);
-template void farfieldFlux<MetricDual>(const MetricDual*,
-                                                 const MetricDual*,
-                                                 const MetricDual*,
-                                                 const MetricDual*, const FreeStream&,
-                                                 MetricDual*);
-template void entropyFarfieldFlux<StateDual>(const StateDual*,
-                                                        const StateDual*,
-                                                        const StateDual*,
-                                                        const StateDual*, const FreeStream&,
-                                                        StateDual*);
-template void farfieldFlux<StateDual>(const StateDual*,
-                                                 const StateDual*,
-                                                 const StateDual*,
-                                                 const StateDual*, const FreeStream&,
-                                                 StateDual*);
+#define AERO_INSTANTIATE(T)                                                                        \
+    template void farfieldFlux<T>(const T*, const T*, const T*, const T*, const FreeStream&, T*);   \
+    template void entropyFarfieldFlux<T>(const T*, const T*, const T*, const T*, const FreeStream&, T*);
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
+#undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -16,39 +16,10 @@ void entropyInterfaceFlux(const T* q, const T* qOther, const T* n, const T*, con
     entropyUpwindFlux(q, qOther, n, fs.gamma, flux);
 }
 
-template void entropyInterfaceFlux<double>(const double*, const double*, const double*, const double*,
-                                           const FreeStream&, double*);
-template void entropyInterfaceFlux<std::complex<double>>(const std::complex<double>*,
-                                                         const std::complex<double>*,
-                                                         const std::complex<double>*,
-                                                         const std::complex<double>*, const FreeStream&,
-                                                         std::complex<double>*);
-template void interfaceFlux<double>(const double*, const double*, const double*, const double*,
-                                    const FreeStream&, double*);
-template void interfaceFlux<std::complex<double>>(const std::complex<double>*,
-                                                  const std::complex<double>*,
-                                                  const std::complex<double>*,
-                                                  const std::complex<double>*, const FreeStream&,
-                                                  std::complex<double>*);
-template void entropyInterfaceFlux<MetricDual>(const MetricDual*,
-                                                         const MetricDual*,
-                                                         const MetricDual*,
-                                                         const MetricDual*, const FreeStream&,
-                                                         MetricDual*);
-template void interfaceFlux<MetricDual>(const MetricDual*,
-                                                  const MetricDual*,
-                                                  const MetricDual*,
-                                                  const MetricDual*, const FreeStream&,
-                                                  MetricDual*);
-template void entropyInterfaceFlux<StateDual>(const StateDual*,
-                                                         const StateDual*,
-                                                         const StateDual*,
-                                                         const StateDual*, const FreeStream&,
-                                                         StateDual*);
-template void interfaceFlux<StateDual>(const StateDual*,
-                                                  const StateDual*,
-                                                  const StateDual*,
-                                                  const StateDual*, const FreeStream&,
-                                                  StateDual*);
+#define AERO_INSTANTIATE(T)                                                                        \
+    template void interfaceFlux<T>(const T*, const T*, const T*, const T*, const FreeStream&, T*);  \
+    template void entropyInterfaceFlux<T>(const T*, const T*, const T*, const T*, const FreeStream&, T*);
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
+#undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -27,22 +27,9 @@ void slipWallFlux(const T* q, const T*, const T* n, const T* nhat, const FreeStr
     flux[4] = rhoH * U;
 }
 
-template void slipWallFlux<double>(const double*, const double*, const double*, const double*,
-                                   const FreeStream&, double*);
-template void slipWallFlux<std::complex<double>>(const std::complex<double>*,
-                                                 const std::complex<double>*,
-                                                 const std::complex<double>*,
-                                                 const std::complex<double>*, const FreeStream&,
-                                                 std::complex<double>*);
-template void slipWallFlux<MetricDual>(const MetricDual*,
-                                                 const MetricDual*,
-                                                 const MetricDual*,
-                                                 const MetricDual*, const FreeStream&,
-                                                 MetricDual*);
-template void slipWallFlux<StateDual>(const StateDual*,
-                                                 const StateDual*,
-                                                 const StateDual*,
-                                                 const StateDual*, const FreeStream&,
-                                                 StateDual*);
+#define AERO_INSTANTIATE(T) \
+    template void slipWallFlux<T>(const T*, const T*, const T*, const T*, const FreeStream&, T*);
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
+#undef AERO_INSTANTIATE
 
 }  // namespace aero::flow

@@ -12,22 +12,9 @@ void symmetryFlux(const T* q, const T* qOther, const T* n, const T* nhat, const 
     slipWallFlux(q, qOther, n, nhat, fs, flux);
 }
 
-template void symmetryFlux<double>(const double*, const double*, const double*, const double*,
-                                   const FreeStream&, double*);
-template void symmetryFlux<std::complex<double>>(const std::complex<double>*,
-                                                 const std::complex<double>*,
-                                                 const std::complex<double>*,
-                                                 const std::complex<double>*, const FreeStream&,
-                                                 std::complex<double>*);
-template void symmetryFlux<MetricDual>(const MetricDual*,
-                                                 const MetricDual*,
-                                                 const MetricDual*,
-                                                 const MetricDual*, const FreeStream&,
-                                                 MetricDual*);
-template void symmetryFlux<StateDual>(const StateDual*,
-                                                 const StateDual*,
-                                                 const StateDual*,
-                                                 const StateDual*, const FreeStream&,
-                                                 StateDual*);
+#define AERO_INSTANTIATE(T) \
+    template void symmetryFlux<T>(const T*, const T*, const T*, const T*, const FreeStream&, T*);
+AERO_FLOW_SCALARS(AERO_INSTANTIATE)
+#undef AERO_INSTANTIATE
 
 }  // namespace aero::flow
