@@ -30,6 +30,7 @@ const char* kMeshHelp =
     "\n"
     "  --json    print one JSON summary on stdout (blocks, control_nodes, grid_nodes, increments,\n"
     "            cg_iterations, min_jacobian, min_scaled_jacobian, max_aspect_ratio,\n"
+    "            sharpest_wall_bend (degrees the wall turns from one grid node to the next, and where),\n"
     "            seconds_generate, seconds_move, seconds_mesh, ...)\n"
     "  --help    this text\n";
 
@@ -82,6 +83,13 @@ int runMesh(const std::string& casePath, bool json) {
         std::snprintf(buf, sizeof buf, "quality: min Jacobian %.3e, min scaled Jacobian %.3f, max aspect ratio %.1f, %ld bad cells",
                       qs.minJacobian.min, qs.scaledJacobian.min, qs.aspectRatio.max, qs.nonPositiveJacobian);
         say(buf);
+        const mesh::WallBend& bend = e.mesh->wallBend;
+        if (bend.degrees > study::kWallBendWarning) {
+            say("warning: " + study::describeWallBend(bend));
+        } else if (bend.block >= 0) {
+            std::snprintf(buf, sizeof buf, "the wall turns by at most %.1f degrees from one grid node to the next", bend.degrees);
+            say(buf);
+        }
 
         // Outputs (also when the grid is bad or the move failed: the user needs to see it).
         nlohmann::ordered_json outputs = nlohmann::ordered_json::object();
@@ -133,6 +141,8 @@ int runMesh(const std::string& casePath, bool json) {
             j["min_scaled_jacobian"] = qs.scaledJacobian.min;
             j["max_aspect_ratio"] = qs.aspectRatio.max;
             j["non_positive_cells"] = qs.nonPositiveJacobian;
+            j["sharpest_wall_bend"] = {{"degrees", bend.degrees}, {"block", bend.block}, {"block_name", bend.blockName},
+                                       {"node", bend.node}, {"neighbour", bend.neighbour}, {"x", bend.x}};
             j["quality"] = {{"min_jacobian", metricJson(qs.minJacobian)},   {"scaled_jacobian", metricJson(qs.scaledJacobian)},
                             {"orthogonality", metricJson(qs.orthogonality)}, {"aspect_ratio", metricJson(qs.aspectRatio)},
                             {"skewness", metricJson(qs.skewness)}};

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <queue>
 #include <tuple>
 
@@ -338,6 +339,80 @@ SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks) {
                         out.direction = d;
                         out.node = n;
                         out.x = {x[0], x[1], x[2]};
+                    }
+                }
+            }
+        }
+    }
+    return out;
+}
+
+WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces) {
+    if (wallFaces.size() != blocks.size()) {
+        throw Error("sharpestWallBend: " + std::to_string(wallFaces.size()) + " face lists for " +
+                    std::to_string(blocks.size()) + " blocks");
+    }
+    WallBend out;
+    for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
+        const StructuredGrid& g = blocks[b];
+        if (static_cast<long>(g.xyz.size()) != 3 * g.nodeCount()) {
+            throw Error("sharpestWallBend: " + blockLabel(blocks, b) + " has " + std::to_string(g.xyz.size()) +
+                        " coordinates for " + std::to_string(g.nodeCount()) + " nodes");
+        }
+        for (int f = 0; f < 6; ++f) {
+            if (!wallFaces[b][f]) continue;
+            const int d = f / 2;                          // the face's normal direction
+            const int s = (d + 1) % 3, t = (d + 2) % 3;   // its tangential directions
+            const int fixed = f % 2 == 1 ? g.dims[d] - 1 : 0;
+            const int ns = g.dims[s], nt = g.dims[t];
+            auto ijk = [&](int a, int c) {
+                std::array<int, 3> n{0, 0, 0};
+                n[d] = fixed;
+                n[s] = a;
+                n[t] = c;
+                return n;
+            };
+            auto point = [&](int a, int c) {
+                const std::array<int, 3> n = ijk(a, c);
+                return g.at(n[0], n[1], n[2]);
+            };
+            // Unit normals of the face's nodes (zero where undefined).
+            std::vector<std::array<double, 3>> normal(static_cast<std::size_t>(ns) * nt);
+            for (int c = 0; c < nt; ++c) {
+                for (int a = 0; a < ns; ++a) {
+                    const double* a0 = point(std::max(a - 1, 0), c);
+                    const double* a1 = point(std::min(a + 1, ns - 1), c);
+                    const double* c0 = point(a, std::max(c - 1, 0));
+                    const double* c1 = point(a, std::min(c + 1, nt - 1));
+                    const double u[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
+                    const double v[3] = {c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]};
+                    std::array<double, 3> n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+                    const double len = std::sqrt(dot(n.data(), n.data()));
+                    for (double& x : n) x = len > 0 ? x / len : 0.0;
+                    normal[static_cast<std::size_t>(c) * ns + a] = n;
+                }
+            }
+            for (int c = 0; c < nt; ++c) {
+                for (int a = 0; a < ns; ++a) {
+                    const std::array<double, 3>& n0 = normal[static_cast<std::size_t>(c) * ns + a];
+                    if (dot(n0.data(), n0.data()) == 0) continue;
+                    for (int step = 0; step < 2; ++step) {
+                        const int a1 = a + (step == 0), c1 = c + (step == 1);
+                        if (a1 >= ns || c1 >= nt) continue;
+                        const std::array<double, 3>& n1 = normal[static_cast<std::size_t>(c1) * ns + a1];
+                        if (dot(n1.data(), n1.data()) == 0) continue;
+                        // atan2 of |n0 x n1| and n0 . n1: accurate for small and large angles.
+                        const double x[3] = {n0[1] * n1[2] - n0[2] * n1[1], n0[2] * n1[0] - n0[0] * n1[2],
+                                             n0[0] * n1[1] - n0[1] * n1[0]};
+                        const double deg = std::atan2(std::sqrt(dot(x, x)), dot(n0.data(), n1.data())) * 180.0 / std::numbers::pi;
+                        if (!(deg > out.degrees)) continue;
+                        out.degrees = deg;
+                        out.block = b;
+                        out.blockName = g.name;
+                        out.node = ijk(a, c);
+                        out.neighbour = ijk(a1, c1);
+                        const double* p = point(a, c);
+                        out.x = {p[0], p[1], p[2]};
                     }
                 }
             }

@@ -120,4 +120,22 @@ struct SpacingJump {
 };
 SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks);
 
+/// The sharpest bend of the wall from one grid node to the next, and where: on every wall face
+/// (wallFaces[b][f], faces numbered 0 i=0, 1 i=max, 2 j=0, 3 j=max, 4 k=0, 5 k=max), each node's
+/// unit normal from the cross product of the two tangential differences (central inside the face,
+/// one-sided at its edges), and the angle between the normals of neighbouring face nodes. A wall
+/// resolved by the grid turns by a few degrees per node (the half-sphere's coarse level: 5); a
+/// fold or a bend tighter than the spacing turns by tens of degrees, and the flow there is not
+/// resolved (the optimizer's stalled blended-wing designs: 33-44 degrees). Nodes whose normal is
+/// undefined (a collapsed edge) are skipped. Throws Error when wallFaces does not match blocks.
+struct WallBend {
+    double degrees = 0;                     // 0 when no wall face has two nodes
+    int block = -1;                         // index into the blocks
+    std::string blockName;
+    std::array<int, 3> node{0, 0, 0};       // the first node of the pair
+    std::array<int, 3> neighbour{0, 0, 0};  // the second
+    std::array<double, 3> x{0, 0, 0};       // the first node's coordinates
+};
+WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces);
+
 }  // namespace aero::mesh

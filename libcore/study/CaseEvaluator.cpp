@@ -45,6 +45,18 @@ std::string describe(const FlowLocation& l) {
                   l.node[1], l.node[2], tidy(l.x[0]), tidy(l.x[1]), tidy(l.x[2]), l.boundary.c_str());
 }
 
+}  // namespace
+
+std::string describeWallBend(const mesh::WallBend& b) {
+    return format("the wall turns by %.0f degrees from one grid node to the next at block %d '%s' node (%d, %d, %d) "
+                  "(x %.3g, %.3g, %.3g), a fold or a bend tighter than the grid spacing: smooth the shape there or "
+                  "refine the grid (mesh.refine)",
+                  b.degrees, b.block, b.blockName.c_str(), b.node[0], b.node[1], b.node[2], tidy(b.x[0]), tidy(b.x[1]),
+                  tidy(b.x[2]));
+}
+
+namespace {
+
 // The location of global flow node g: block, (i, j, k), coordinates and the faces it lies on.
 FlowLocation locate(const flow::FlowMesh& fm, const std::vector<double>& x, long g, double value) {
     FlowLocation l;
@@ -257,6 +269,13 @@ void CaseEvaluator::evaluateMesh(Evaluation& e, const EvaluationRequest& request
         for (const auto& g : m->grids) q.push_back(mesh::cellQuality(g));
         m->quality = mesh::summarize(m->grids, q, request.worstCells);
         m->spacingJump = mesh::largestSpacingJump(m->grids);
+        {
+            std::vector<std::array<bool, 6>> walls(m->control.blocks.size());
+            for (std::size_t b = 0; b < walls.size(); ++b) {
+                for (int f = 0; f < 6; ++f) walls[b][f] = m->control.blocks[b].faces[f].kind == mesh::BoundaryKind::Wall;
+            }
+            m->wallBend = mesh::sharpestWallBend(m->grids, walls);
+        }
         if (e.status == EvaluationStatus::Ok) {
             try {
                 mesh::requirePositiveJacobians(m->grids, q);
@@ -310,6 +329,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                    "(a finer level, a higher mesh.refine or a larger grid_wall_spacing reduces it)",
                    jump.ratio, "ijk"[jump.direction], jump.block, jump.blockName.c_str(), jump.node[0], jump.node[1],
                    jump.node[2], tidy(jump.x[0]), tidy(jump.x[1]), tidy(jump.x[2])));
+    }
+    if (m.wallBend.degrees > kWallBendWarning) {
+        say("warning: " + describeWallBend(m.wallBend) + "; the flow there is not resolved and may not converge");
     }
 
     flow::NewtonOptions no = case_.flow.newton;
@@ -478,6 +500,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         if (f->maxMach.value > 1.0) {
             why += format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
         }
+        if (m.wallBend.degrees > kWallBendWarning) why += "; " + describeWallBend(m.wallBend);
         if (f->coldRetry()) {
             why += format(" (solved from the free stream after the warm start stopped: %s after %d iterations)",
                           flow::flowStatusName(f->warmReport.status), f->warmReport.iterations);

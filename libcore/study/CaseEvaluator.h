@@ -105,11 +105,20 @@ struct MeshResult {
     bool moved = false;                      // false when the shape's wall is the baseline's
     mesh::QualitySummary quality;
     mesh::SpacingJump spacingJump;
+    mesh::WallBend wallBend;                 // the sharpest turn of the wall from node to node
 };
 
 /// Largest ratio of neighbouring grid spacings accepted without a warning (the evaluation still
 /// runs): central differences lose their accuracy across such a jump and solves tend to stall.
 inline constexpr double kSpacingJumpWarning = 8.0;
+
+/// A wall that turns by more than this many degrees from one grid node to the next is not
+/// resolved by the grid (a fold or a bend tighter than the spacing): a warning before the solve,
+/// and named in the reason of a flow that does not converge.
+inline constexpr double kWallBendWarning = 25.0;
+
+/// The wall bend for a human: how sharp, where, and what resolves it.
+std::string describeWallBend(const mesh::WallBend& b);
 
 /// A node of the flow grid, located for a human.
 struct FlowLocation {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <numbers>
 #include <numeric>
 
 #include "common/Error.h"
@@ -285,6 +286,43 @@ TEST(Quality, LargestSpacingJumpIsFoundWithItsNode) {
     StructuredGrid shortGrid = uniformGrid("short", {3, 3, 3}, 1.0);
     shortGrid.xyz.pop_back();
     EXPECT_THROW(largestSpacingJump({shortGrid}), Error);
+}
+
+TEST(Quality, SharpestWallBendFindsAFoldAndTheTurnOfACurvedWall) {
+    // A cylinder wall (face k = 0) with nodes every 10 degrees: interior nodes have the exact
+    // radial normal (central differences), so neighbours turn by 10 degrees; the edge nodes'
+    // one-sided normals by 5.
+    const StructuredGrid cylinder = makeGrid("cylinder", {7, 3, 3}, [](int i, int j, int k) {
+        const double phi = i * 10.0 * std::numbers::pi / 180.0, r = 1.0 + 0.1 * k;
+        return std::array<double, 3>{r * std::cos(phi), r * std::sin(phi), 0.2 * j};
+    });
+    std::array<bool, 6> kMin{false, false, false, false, true, false};
+    const WallBend c = sharpestWallBend({cylinder}, {kMin});
+    EXPECT_NEAR(c.degrees, 10.0, 1e-9);
+    EXPECT_EQ(c.block, 0);
+    EXPECT_EQ(c.blockName, "cylinder");
+    EXPECT_EQ(c.node[2], 0);
+    EXPECT_EQ(c.neighbour[0], c.node[0] + 1);  // the pair lies along i, around the cylinder
+    EXPECT_GE(c.node[0], 1);
+    EXPECT_LE(c.node[0], 4);
+    // The same block without a wall face, and the radial faces (flat planes) as walls: no bend.
+    EXPECT_EQ(sharpestWallBend({cylinder}, {{false, false, false, false, false, false}}).degrees, 0.0);
+    EXPECT_NEAR(sharpestWallBend({cylinder}, {{true, true, false, false, false, false}}).degrees, 0.0, 1e-9);
+
+    // A plane folded by 60 degrees at i = 3 (unit spacing on both sides) in the second block:
+    // the apex node's normal is halfway, so the wall turns by 30 degrees twice, at nodes 2 and 3.
+    const double theta = 60.0 * std::numbers::pi / 180.0;
+    const StructuredGrid folded = makeGrid("folded", {7, 2, 2}, [&](int i, int j, int k) {
+        const double x = i <= 3 ? i : 3.0 + (i - 3) * std::cos(theta), z = i <= 3 ? 0.0 : (i - 3) * std::sin(theta);
+        return std::array<double, 3>{x - 0.1 * k * (i <= 3 ? 0.0 : std::sin(theta)), 0.5 * j, z + 0.1 * k};
+    });
+    const WallBend f = sharpestWallBend({cylinder, folded}, {kMin, kMin});
+    EXPECT_NEAR(f.degrees, 30.0, 1e-9);
+    EXPECT_EQ(f.block, 1);
+    EXPECT_TRUE(f.node[0] == 2 || f.node[0] == 3) << f.node[0];
+    EXPECT_DOUBLE_EQ(f.x[0], f.node[0]);
+
+    EXPECT_THROW(sharpestWallBend({cylinder, folded}, {kMin}), Error);
 }
 
 // Timing on the paper's grid size (900,000 nodes). Run with --gtest_also_run_disabled_tests.
