@@ -86,6 +86,7 @@ struct OptimizationCase {
     bool alphaVariable = false;        // the angle of attack is a variable too (flow.alpha its start)
     double alphaLower = -5, alphaUpper = 10;  // degrees
     double minCornerRatio = 0.01;      // every grid cell corner keeps this fraction of its baseline
+    double maxWallBend = 0;            // degrees the wall may turn from grid node to node (0: free)
                                        // volume (0: no grid-validity constraint)
     bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
     double targetCL = 0;

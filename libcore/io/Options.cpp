@@ -313,6 +313,11 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "corner of log(Jacobian / baseline Jacobian) is kept above log(this), with its exact "
                             "gradient through the mesh adjoint, so the optimizer turns away before the moved grid "
                             "folds; 0: no such constraint"));
+        o.push_back(real<O>("max_wall_bend", "degrees", 0, true, 180, false, [](O& c) -> double& { return c.maxWallBend; },
+                            "shape resolution: a smooth maximum (Kreisselmeier-Steinhauser over 1 - cos, rho 1000) of "
+                            "the angle the wall turns from one grid node to the next is kept below this, with its exact "
+                            "gradient, so the optimizer does not fold the wall into bends the grid cannot resolve (the "
+                            "flow there is not resolved and tends to stall; docs/validation.md); 0: no such constraint"));
         o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
                                "keep CL equal to target_cl (with its exact gradient)"));
         o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },

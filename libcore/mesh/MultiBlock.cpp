@@ -31,6 +31,14 @@ BoundaryKind boundaryFromName(const std::string& name, const std::string& key) {
                     "' (expected wall, farfield, symmetry or interface)");
 }
 
+std::vector<std::array<bool, 6>> wallFaces(const MultiBlockMesh& m) {
+    std::vector<std::array<bool, 6>> w(m.blocks.size());
+    for (std::size_t b = 0; b < w.size(); ++b) {
+        for (int f = 0; f < 6; ++f) w[b][f] = m.blocks[b].faces[f].kind == BoundaryKind::Wall;
+    }
+    return w;
+}
+
 long MultiBlockMesh::gridNodeCount() const {
     long n = 0;
     for (const auto& b : blocks) {

@@ -61,6 +61,9 @@ struct MultiBlockMesh {
     long gridNodeCount() const;
 };
 
+/// Per block, which of its 6 faces (Face order) are walls.
+std::vector<std::array<bool, 6>> wallFaces(const MultiBlockMesh& m);
+
 /// The block's B-spline volume with its control points gathered from b.
 nurbs::Volume<double> blockVolume(const MultiBlockMesh& m, int block);
 

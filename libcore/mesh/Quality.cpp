@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <numbers>
 #include <queue>
@@ -347,22 +348,34 @@ SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks) {
     return out;
 }
 
-WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces) {
+namespace {
+
+// A pair of neighbouring nodes on a wall face and the points their normals come from: node a's
+// (a = 0, 1) normal is (x[p[a][1]] - x[p[a][0]]) x (x[p[a][3]] - x[p[a][2]]), the differences
+// along the face's two tangential directions (central inside the face, one-sided at its edges).
+struct WallPair {
+    int block = 0;
+    std::array<int, 3> node{0, 0, 0}, neighbour{0, 0, 0};
+    long p[2][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
+};
+
+std::vector<WallPair> wallPairs(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces,
+                                const char* who) {
     if (wallFaces.size() != blocks.size()) {
-        throw Error("sharpestWallBend: " + std::to_string(wallFaces.size()) + " face lists for " +
+        throw Error(std::string(who) + ": " + std::to_string(wallFaces.size()) + " face lists for " +
                     std::to_string(blocks.size()) + " blocks");
     }
-    WallBend out;
+    std::vector<WallPair> out;
     for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
         const StructuredGrid& g = blocks[b];
         if (static_cast<long>(g.xyz.size()) != 3 * g.nodeCount()) {
-            throw Error("sharpestWallBend: " + blockLabel(blocks, b) + " has " + std::to_string(g.xyz.size()) +
+            throw Error(std::string(who) + ": " + blockLabel(blocks, b) + " has " + std::to_string(g.xyz.size()) +
                         " coordinates for " + std::to_string(g.nodeCount()) + " nodes");
         }
         for (int f = 0; f < 6; ++f) {
             if (!wallFaces[b][f]) continue;
-            const int d = f / 2;                          // the face's normal direction
-            const int s = (d + 1) % 3, t = (d + 2) % 3;   // its tangential directions
+            const int d = f / 2;                         // the face's normal direction
+            const int s = (d + 1) % 3, t = (d + 2) % 3;  // its tangential directions (right-handed)
             const int fixed = f % 2 == 1 ? g.dims[d] - 1 : 0;
             const int ns = g.dims[s], nt = g.dims[t];
             auto ijk = [&](int a, int c) {
@@ -372,53 +385,181 @@ WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::
                 n[t] = c;
                 return n;
             };
-            auto point = [&](int a, int c) {
+            auto id = [&](int a, int c) {
                 const std::array<int, 3> n = ijk(a, c);
-                return g.at(n[0], n[1], n[2]);
+                return g.node(n[0], n[1], n[2]);
             };
-            // Unit normals of the face's nodes (zero where undefined).
-            std::vector<std::array<double, 3>> normal(static_cast<std::size_t>(ns) * nt);
+            auto stencil = [&](int a, int c, long* p) {
+                p[0] = id(std::max(a - 1, 0), c);
+                p[1] = id(std::min(a + 1, ns - 1), c);
+                p[2] = id(a, std::max(c - 1, 0));
+                p[3] = id(a, std::min(c + 1, nt - 1));
+            };
             for (int c = 0; c < nt; ++c) {
                 for (int a = 0; a < ns; ++a) {
-                    const double* a0 = point(std::max(a - 1, 0), c);
-                    const double* a1 = point(std::min(a + 1, ns - 1), c);
-                    const double* c0 = point(a, std::max(c - 1, 0));
-                    const double* c1 = point(a, std::min(c + 1, nt - 1));
-                    const double u[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
-                    const double v[3] = {c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]};
-                    std::array<double, 3> n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-                    const double len = std::sqrt(dot(n.data(), n.data()));
-                    for (double& x : n) x = len > 0 ? x / len : 0.0;
-                    normal[static_cast<std::size_t>(c) * ns + a] = n;
-                }
-            }
-            for (int c = 0; c < nt; ++c) {
-                for (int a = 0; a < ns; ++a) {
-                    const std::array<double, 3>& n0 = normal[static_cast<std::size_t>(c) * ns + a];
-                    if (dot(n0.data(), n0.data()) == 0) continue;
                     for (int step = 0; step < 2; ++step) {
                         const int a1 = a + (step == 0), c1 = c + (step == 1);
                         if (a1 >= ns || c1 >= nt) continue;
-                        const std::array<double, 3>& n1 = normal[static_cast<std::size_t>(c1) * ns + a1];
-                        if (dot(n1.data(), n1.data()) == 0) continue;
-                        // atan2 of |n0 x n1| and n0 . n1: accurate for small and large angles.
-                        const double x[3] = {n0[1] * n1[2] - n0[2] * n1[1], n0[2] * n1[0] - n0[0] * n1[2],
-                                             n0[0] * n1[1] - n0[1] * n1[0]};
-                        const double deg = std::atan2(std::sqrt(dot(x, x)), dot(n0.data(), n1.data())) * 180.0 / std::numbers::pi;
-                        if (!(deg > out.degrees)) continue;
-                        out.degrees = deg;
-                        out.block = b;
-                        out.blockName = g.name;
-                        out.node = ijk(a, c);
-                        out.neighbour = ijk(a1, c1);
-                        const double* p = point(a, c);
-                        out.x = {p[0], p[1], p[2]};
+                        WallPair w;
+                        w.block = b;
+                        w.node = ijk(a, c);
+                        w.neighbour = ijk(a1, c1);
+                        stencil(a, c, w.p[0]);
+                        stencil(a1, c1, w.p[1]);
+                        out.push_back(w);
                     }
                 }
             }
         }
     }
     return out;
+}
+
+// Node a's unnormalized normal w = u x v from the block's coordinates.
+template <class T>
+void pairNormal(const T* x, const WallPair& w, int a, T u[3], T v[3], T n[3]) {
+    for (int m = 0; m < 3; ++m) {
+        u[m] = x[3 * w.p[a][1] + m] - x[3 * w.p[a][0] + m];
+        v[m] = x[3 * w.p[a][3] + m] - x[3 * w.p[a][2] + m];
+    }
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+inline double realPart(double x) { return x; }
+inline double realPart(const std::complex<double>& x) { return x.real(); }
+
+// s = 1 - n0 . n1 of a pair's unit normals (2 sin^2 of half the angle: smooth where the angle is
+// 0, unlike the angle); false when a normal is undefined (a collapsed edge).
+template <class T>
+bool pairMeasure(const T* x, const WallPair& w, T& s) {
+    T u[3], v[3], n0[3], n1[3];
+    pairNormal(x, w, 0, u, v, n0);
+    pairNormal(x, w, 1, u, v, n1);
+    const T l0 = n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2];
+    const T l1 = n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2];
+    if (realPart(l0) == 0 || realPart(l1) == 0) return false;
+    s = T(1.0) - (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2]) / std::sqrt(l0 * l1);
+    return true;
+}
+
+// The angle in degrees whose 1 - cos is s (s in [0, 2]).
+template <class T>
+T degreesOfMeasure(const T& s) {
+    return T(360.0 / std::numbers::pi) * std::asin(std::sqrt(s / T(2.0)));
+}
+
+}  // namespace
+
+WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces) {
+    WallBend out;
+    for (const WallPair& w : wallPairs(blocks, wallFaces, "sharpestWallBend")) {
+        const double* x = blocks[w.block].xyz.data();
+        double u[3], v[3], n0[3], n1[3];
+        pairNormal(x, w, 0, u, v, n0);
+        pairNormal(x, w, 1, u, v, n1);
+        if (dot(n0, n0) == 0 || dot(n1, n1) == 0) continue;
+        // atan2 of |n0 x n1| and n0 . n1: accurate for small and large angles.
+        const double c[3] = {n0[1] * n1[2] - n0[2] * n1[1], n0[2] * n1[0] - n0[0] * n1[2], n0[0] * n1[1] - n0[1] * n1[0]};
+        const double deg = std::atan2(std::sqrt(dot(c, c)), dot(n0, n1)) * 180.0 / std::numbers::pi;
+        if (!(deg > out.degrees)) continue;
+        out.degrees = deg;
+        out.block = w.block;
+        out.blockName = blocks[w.block].name;
+        out.node = w.node;
+        out.neighbour = w.neighbour;
+        const double* p = blocks[w.block].at(w.node[0], w.node[1], w.node[2]);
+        out.x = {p[0], p[1], p[2]};
+    }
+    return out;
+}
+
+namespace {
+
+// The smooth maximum over the pairs of s (Kreisselmeier-Steinhauser), in degrees.
+template <class T>
+T bendSmoothMax(const std::vector<WallPair>& pairs, const std::vector<const T*>& xyz, double rho, std::vector<T>* measures) {
+    std::vector<T> s(pairs.size(), T(-1.0));  // -1: undefined
+    double top = -1;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (pairMeasure(xyz[pairs[k].block], pairs[k], s[k])) top = std::max(top, realPart(s[k]));
+    }
+    if (top < 0) return T(0.0);
+    T sum(0.0);
+    for (const T& x : s) {
+        if (realPart(x) >= 0) sum += std::exp(T(rho) * (x - T(top)));
+    }
+    const T S = T(top) + std::log(sum) / T(rho);
+    if (measures) *measures = std::move(s);
+    return realPart(S) >= 2.0 ? T(180.0) : degreesOfMeasure(S);
+}
+
+}  // namespace
+
+double wallBendSmoothMax(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces,
+                         double rho, std::vector<std::vector<double>>* gradient) {
+    const std::vector<WallPair> pairs = wallPairs(blocks, wallFaces, "wallBendSmoothMax");
+    std::vector<const double*> xyz;
+    for (const StructuredGrid& g : blocks) xyz.push_back(g.xyz.data());
+    std::vector<double> s;
+    const double deg = bendSmoothMax(pairs, xyz, rho, &s);
+    if (!gradient) return deg;
+    gradient->assign(blocks.size(), {});
+    for (std::size_t b = 0; b < blocks.size(); ++b) (*gradient)[b].assign(blocks[b].xyz.size(), 0.0);
+    if (s.empty() || deg <= 0 || deg >= 180) return deg;
+    // d deg / dS = (180 / pi) / sin(theta); dS / ds_k = exp(rho (s_k - top)) / sum.
+    double top = -1;
+    for (double x : s) top = std::max(top, x);
+    double sum = 0;
+    for (double x : s) {
+        if (x >= 0) sum += std::exp(rho * (x - top));
+    }
+    const double dDeg = 180.0 / std::numbers::pi / std::sin(deg * std::numbers::pi / 180.0);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (s[k] < 0) continue;
+        const double weight = dDeg * std::exp(rho * (s[k] - top)) / sum;
+        if (weight == 0) continue;
+        const WallPair& w = pairs[k];
+        const double* x = xyz[w.block];
+        double* gx = (*gradient)[w.block].data();
+        double u[2][3], v[2][3], n[2][3], len[2];
+        for (int a = 0; a < 2; ++a) {
+            pairNormal(x, w, a, u[a], v[a], n[a]);
+            len[a] = std::sqrt(dot(n[a], n[a]));
+            for (double& c : n[a]) c /= len[a];
+        }
+        const double c01 = dot(n[0], n[1]);
+        // s = 1 - n0 . n1 with n = w / |w|: ds = g_a . dw_a, g_a = -(n_b - (n_a . n_b) n_a) / |w_a|,
+        // and with w = u x v: g . dw = du . (v x g) + dv . (g x u).
+        for (int a = 0; a < 2; ++a) {
+            const int b = 1 - a;
+            double g[3];
+            for (int m = 0; m < 3; ++m) g[m] = -weight * (n[b][m] - c01 * n[a][m]) / len[a];
+            const double du[3] = {v[a][1] * g[2] - v[a][2] * g[1], v[a][2] * g[0] - v[a][0] * g[2], v[a][0] * g[1] - v[a][1] * g[0]};
+            const double dv[3] = {g[1] * u[a][2] - g[2] * u[a][1], g[2] * u[a][0] - g[0] * u[a][2], g[0] * u[a][1] - g[1] * u[a][0]};
+            for (int m = 0; m < 3; ++m) {
+                gx[3 * w.p[a][1] + m] += du[m];
+                gx[3 * w.p[a][0] + m] -= du[m];
+                gx[3 * w.p[a][3] + m] += dv[m];
+                gx[3 * w.p[a][2] + m] -= dv[m];
+            }
+        }
+    }
+    return deg;
+}
+
+std::complex<double> wallBendSmoothMax(const std::vector<StructuredGrid>& blocks,
+                                       const std::vector<std::vector<std::complex<double>>>& xyz,
+                                       const std::vector<std::array<bool, 6>>& wallFaces, double rho) {
+    const std::vector<WallPair> pairs = wallPairs(blocks, wallFaces, "wallBendSmoothMax");
+    if (xyz.size() != blocks.size()) throw Error("wallBendSmoothMax: coordinates for another number of blocks");
+    std::vector<const std::complex<double>*> p;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+        if (xyz[b].size() != blocks[b].xyz.size()) throw Error("wallBendSmoothMax: coordinates of another size");
+        p.push_back(xyz[b].data());
+    }
+    return bendSmoothMax(pairs, p, rho, static_cast<std::vector<std::complex<double>>*>(nullptr));
 }
 
 namespace {

@@ -25,6 +25,7 @@
 // because the grid generator produces right-handed blocks and the flow solver assumes them.
 // A collapsed edge (e.g. on a polar axis) gives determinant 0 and counts as non-positive too.
 #include <array>
+#include <complex>
 #include <string>
 #include <vector>
 
@@ -137,5 +138,19 @@ struct WallBend {
     std::array<double, 3> x{0, 0, 0};       // the first node's coordinates
 };
 WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces);
+
+/// A smooth upper bound of the sharpest wall bend, in degrees, for the optimizer's constraint:
+/// the Kreisselmeier-Steinhauser maximum over the node pairs of sharpestWallBend of
+/// s = 1 - cos(angle) (smooth where the angle is 0, unlike the angle itself),
+///   S = max s + log(sum exp(rho (s - max s))) / rho,   degrees = acos(1 - S),
+/// which lies within log(pairs) / rho of the largest s (rho 1000 and 12,000 pairs: within 1.2
+/// degrees at 25). With `gradient`: d degrees / dx per block (the xyz layout of each grid),
+/// exact. 0 (and a zero gradient) when no wall pair has normals.
+double wallBendSmoothMax(const std::vector<StructuredGrid>& blocks, const std::vector<std::array<bool, 6>>& wallFaces,
+                         double rho, std::vector<std::vector<double>>* gradient = nullptr);
+/// The same on complex coordinates xyz[b] (the layout of blocks[b].xyz): complex-step checks.
+std::complex<double> wallBendSmoothMax(const std::vector<StructuredGrid>& blocks,
+                                       const std::vector<std::vector<std::complex<double>>>& xyz,
+                                       const std::vector<std::array<bool, 6>>& wallFaces, double rho);
 
 }  // namespace aero::mesh

@@ -269,13 +269,7 @@ void CaseEvaluator::evaluateMesh(Evaluation& e, const EvaluationRequest& request
         for (const auto& g : m->grids) q.push_back(mesh::cellQuality(g));
         m->quality = mesh::summarize(m->grids, q, request.worstCells);
         m->spacingJump = mesh::largestSpacingJump(m->grids);
-        {
-            std::vector<std::array<bool, 6>> walls(m->control.blocks.size());
-            for (std::size_t b = 0; b < walls.size(); ++b) {
-                for (int f = 0; f < 6; ++f) walls[b][f] = m->control.blocks[b].faces[f].kind == mesh::BoundaryKind::Wall;
-            }
-            m->wallBend = mesh::sharpestWallBend(m->grids, walls);
-        }
+        m->wallBend = mesh::sharpestWallBend(m->grids, mesh::wallFaces(m->control));
         if (e.status == EvaluationStatus::Ok) {
             try {
                 mesh::requirePositiveJacobians(m->grids, q);

@@ -132,7 +132,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         history = &still;
     }
     res.historyBytes = history->bytes();
-    // The grid-validity function goes through the same transpose and mesh adjoint, last.
+    // The grid-validity and wall-bend functions go through the same transpose and mesh adjoint, last.
     std::vector<std::vector<double>> gxAll = gx;
     double cornerRatio = 0;
     if (o.cornerRatioRho > 0) {
@@ -142,6 +142,16 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             res.message = "the grid has a folded cell: no gradient of its corner ratio";
             return res;
         }
+        std::vector<double> g(f.x.size(), 0.0);
+        for (std::size_t b = 0; b < perBlock.size(); ++b) {
+            std::copy(perBlock[b].begin(), perBlock[b].end(), g.begin() + 3 * f.mesh.blocks[b].offset);
+        }
+        gxAll.push_back(std::move(g));
+    }
+    double wallBend = 0;
+    if (o.wallBendRho > 0) {
+        std::vector<std::vector<double>> perBlock;
+        wallBend = mesh::wallBendSmoothMax(m.grids, mesh::wallFaces(m.control), o.wallBendRho, &perBlock);
         std::vector<double> g(f.x.size(), 0.0);
         for (std::size_t b = 0; b < perBlock.size(); ++b) {
             std::copy(perBlock[b].begin(), perBlock[b].end(), g.begin() + 3 * f.mesh.blocks[b].offset);
@@ -238,22 +248,26 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             res.functionals.push_back(baseOf(name == kRatio ? ratio : byName(name)));
         }
     }
-    if (o.cornerRatioRho > 0) {
+    // The geometric functions after the flow's: gA[bases.size()], then on.
+    std::size_t next = bases.size();
+    auto geometric = [&](const char* name, double value) {
+        const std::vector<double>& ga = gA[next++];
         FunctionalGradient r;
-        r.name = kCornerRatio;
-        r.value = cornerRatio;
+        r.name = name;
+        r.value = value;
         if (ev.model()) {
-            const std::vector<double>& ga = gA.back();
             const Eigen::Map<const Eigen::VectorXd> g(ga.data(), static_cast<Eigen::Index>(ga.size()));
             const Eigen::VectorXd dv = dAdv.transpose() * g;
             r.dv.assign(dv.data(), dv.data() + dv.size());
         }
         if (o.geometrySensitivities) {
-            r.dUnique = gA.back();
-            r.dLattice = latticeGradients(gA.back());
+            r.dUnique = ga;
+            r.dLattice = latticeGradients(ga);
         }
         res.functionals.push_back(r);
-    }
+    };
+    if (o.cornerRatioRho > 0) geometric(kCornerRatio, cornerRatio);
+    if (o.wallBendRho > 0) geometric(kWallBend, wallBend);
     res.secondsChain = since(t);
     res.ok = true;
     return res;

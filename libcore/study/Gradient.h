@@ -27,6 +27,8 @@ void checkGradientFunctional(const std::string& name);
 
 /// The name of the grid-validity function in GradientResult::functionals.
 inline constexpr const char* kCornerRatio = "corner_ratio";
+/// The name of the wall-bend function (mesh::wallBendSmoothMax, degrees) in GradientResult::functionals.
+inline constexpr const char* kWallBend = "wall_bend";
 
 struct GradientOptions {
     std::vector<std::string> functionals{"CL", "CD"};
@@ -35,6 +37,10 @@ struct GradientOptions {
     /// against the baseline grid, at this rho; 0: not), named kCornerRatio in the result: the
     /// optimizer's grid-validity constraint, through the same mesh adjoint as the functionals.
     double cornerRatioRho = 0;
+    /// Also the gradient of the wall's smooth sharpest bend (mesh::wallBendSmoothMax at this rho;
+    /// 0: not), named kWallBend: the optimizer's constraint that keeps the shape resolved by the
+    /// grid. The wall grid follows the surface alone, but it goes through the same chain.
+    double wallBendRho = 0;
     /// Also dJ/dA (FunctionalGradient::dUnique) and dJ/dB (FunctionalGradient::dLattice) of every
     /// requested functional: for a designer's view of where the geometry and the lattices should
     /// move (the optimizer does not need them).

@@ -36,6 +36,7 @@ using Kind = OptimizationRecord::Kind;
 namespace {
 
 constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (io/Options.cpp documents it)
+constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - cos of the bend)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double since(std::chrono::steady_clock::time_point t) {
@@ -88,6 +89,7 @@ Json toJson(const OptimizationRecord& r) {
             j["CM"] = number(r.CM);
             j["volume"] = number(r.volume);
             j["corner_ratio"] = number(r.cornerRatio);
+            j["wall_bend"] = number(r.wallBend);
             j["max_mach"] = number(r.maxMach);
             j["max_entropy"] = number(r.maxEntropy);
             j["alpha"] = number(r.alphaDeg);
@@ -145,6 +147,7 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.CM = number(j.at("CM"));
             r.volume = number(j.at("volume"));
             if (j.contains("corner_ratio")) r.cornerRatio = number(j["corner_ratio"]);
+            if (j.contains("wall_bend")) r.wallBend = number(j["wall_bend"]);
             if (j.contains("max_mach")) r.maxMach = number(j["max_mach"]);
             if (j.contains("max_entropy")) r.maxEntropy = number(j["max_entropy"]);
             r.alphaDeg = number(j.at("alpha"));
@@ -246,7 +249,7 @@ public:
 
 private:
     std::string evaluationHeader() const {
-        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,smallest_corner_ratio,max_mach,max_entropy,"
+        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,smallest_corner_ratio,sharpest_wall_bend,max_mach,max_entropy,"
                         "alpha_deg,flow_iterations,adjoint_iterations,seconds,message";
         for (const std::string& n : names_) h += "," + n;
         return h + "\n";
@@ -260,13 +263,14 @@ private:
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
                  csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
                  csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
-                 csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," + csvNumber(r.ok ? r.maxMach : kNaN) + "," +
+                 csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," +
+                 csvNumber(r.wallBend != 0 ? r.wallBend : kNaN) + "," + csvNumber(r.ok ? r.maxMach : kNaN) + "," +
                  csvNumber(r.ok ? r.maxEntropy : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
                  std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
                  csvText(r.message);
         } else {
-            // status, then objective .. flow_iterations empty (12 fields), then adjoint_iterations.
-            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
+            // status, then objective .. flow_iterations empty (13 fields), then adjoint_iterations.
+            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
                  csvNumber(r.seconds) + "," + csvText(r.message);
         }
         for (double u : r.x) s += "," + csvNumber(u);
@@ -404,6 +408,8 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (oc.liftConstraint) p.nonlinear.push_back({"CL", oc.targetCL, oc.targetCL});
     const bool gridConstraint = oc.minCornerRatio > 0;
     if (gridConstraint) p.nonlinear.push_back({"grid corner ratio (log)", std::log(oc.minCornerRatio), infinity});
+    const bool bendConstraint = oc.maxWallBend > 0;
+    if (bendConstraint) p.nonlinear.push_back({"wall bend (degrees, smooth max)", -infinity, oc.maxWallBend});
     // Geometric constraints of the FFD model itself (exact values and gradients, no adjoint).
     std::optional<ffd::ThicknessConstraints> thickness;
     if (c.thickness.present()) {
@@ -449,6 +455,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     };
     if (oc.liftConstraint && oc.objective != "CL") go.functionals.push_back("CL");
     if (gridConstraint) go.cornerRatioRho = kCornerRatioRho;
+    if (bendConstraint) go.wallBendRho = kWallBendRho;
 
     // The history files.
     summary.historyCsv = oc.history;
@@ -599,6 +606,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         const std::vector<double> v = design(u);
         r.volume = model.volume(v);
         r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
+        if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
         if (e->flow) {
             // A warm start solved again from the free stream (CaseEvaluator's cold retry) counts both.
             r.flowIterations = static_cast<int>(e->flow->report.iterations + e->flow->warmReport.iterations);
@@ -624,6 +632,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 r.cornerRatio = mesh::cornerRatioSmoothMin(e->mesh->grids, ev.baselineGrids(), kCornerRatioRho);
                 r.constraints.push_back(r.cornerRatio);
             }
+            if (bendConstraint) r.constraints.push_back(mesh::wallBendSmoothMax(e->mesh->grids, mesh::wallFaces(e->mesh->control), kWallBendRho));
             if (thickness) {
                 for (double x : thickness->ratios(v)) r.constraints.push_back(x);
             }
@@ -714,6 +723,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                     for (int i = 0; i < nv; ++i) row[i] = fr.dv[i] * scale[i];
                     r.dConstraints.push_back(row);
                 }
+                if (bendConstraint) r.dConstraints.push_back(designRow(g.find(kWallBend)->dv));
                 if (thickness) {
                     for (const std::vector<double>& dt : thickness->ratioGradients(design(u))) r.dConstraints.push_back(designRow(dt));
                 }

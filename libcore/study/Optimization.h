@@ -40,6 +40,7 @@ struct OptimizationRecord {
     // Values: the evaluation.
     double J = 0, CL = 0, CD = 0, CM = 0, volume = 0, alphaDeg = 0;
     double cornerRatio = 0;         // log of the grid's smallest corner ratio (smooth; 0: not computed)
+    double wallBend = 0;            // the wall's sharpest node-to-node bend, degrees (0: no grid)
     double maxMach = 0, maxEntropy = 0;  // the flow's largest local Mach number and |s - s_inf|: a
                                          // check that the optimizer's designs stay physical
     int flowIterations = 0;

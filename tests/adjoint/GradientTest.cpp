@@ -39,10 +39,13 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     study::GradientOptions o;
     o.functionals = {"CL", "CD", "CL/CD"};
     o.cornerRatioRho = 50;  // the optimizer's grid-validity constraint, through the same mesh adjoint
+    o.wallBendRho = 1000;   // and its wall-bend constraint
     const study::GradientResult g = study::computeGradient(ev, e, o);
     ASSERT_TRUE(g.ok) << g.message;
-    ASSERT_EQ(g.functionals.size(), 4u);
+    ASSERT_EQ(g.functionals.size(), 5u);
     EXPECT_EQ(g.functionals[3].name, study::kCornerRatio);
+    EXPECT_EQ(g.functionals[4].name, study::kWallBend);
+    const std::vector<std::array<bool, 6>> walls = mesh::wallFaces(e.mesh->control);
     // With CL and CD requested, CL/CD comes from their adjoints (the quotient rule): two
     // adjoints. Alone, CL/CD has its own adjoint (its linearization, a combination of CL and CD):
     // the same gradient to the adjoints' tolerance.
@@ -81,12 +84,14 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     // / 1e-6 they differed from the adjoint by 4e-4 / 2e-4 / 5e-8 on one grid), and where the
     // switches lie moves with the grid: as in the paper's check, the best of several steps counts.
     std::vector<std::pair<double, double>> ratios;  // (step, corner ratio) of every evaluation
+    std::vector<double> bends;                      // and its wall bend
     auto at = [&](double s) {
         std::vector<double> w = v;
         for (std::size_t i = 0; i < v.size(); ++i) w[i] += s * z[i];
         study::Evaluation ee = ev.evaluate(w);
         EXPECT_TRUE(ee.ok()) << ee.message;
         ratios.emplace_back(s, mesh::cornerRatioSmoothMin(ee.mesh->grids, ev.baselineGrids(), o.cornerRatioRho));
+        bends.push_back(mesh::wallBendSmoothMax(ee.mesh->grids, walls, o.wallBendRho));
         return ee.flow->forces;
     };
     double best[3] = {1e300, 1e300, 1e300}, bestFd[3] = {0, 0, 0}, exact[3] = {0, 0, 0};
@@ -120,5 +125,17 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     std::printf("corner ratio: %.10g, directional derivative %.10g, best difference %.2e\n", g.functionals[3].value,
                 ratioExact, bestRatio);
     EXPECT_LT(bestRatio, 1e-6 * std::abs(ratioExact));
+    // The wall bend likewise (degrees; it depends on the wall grid alone).
+    EXPECT_NEAR(g.functionals[4].value, mesh::wallBendSmoothMax(e.mesh->grids, walls, 1000), 1e-12);
+    double bendExact = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) bendExact += g.functionals[4].dv[i] * z[i];
+    double bestBend = 1e300;
+    for (std::size_t a = 0; a + 1 < bends.size(); a += 2) {
+        bestBend = std::min(bestBend, std::abs((bends[a] - bends[a + 1]) / (2 * ratios[a].first) - bendExact));
+    }
+    std::printf("wall bend: %.10g degrees, directional derivative %.10g, best difference %.2e\n", g.functionals[4].value,
+                bendExact, bestBend);
+    EXPECT_GT(std::abs(bendExact), 1e-3);
+    EXPECT_LT(bestBend, 1e-6 * std::abs(bendExact));
 }
 

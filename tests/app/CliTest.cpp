@@ -796,7 +796,7 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
     EXPECT_NE(slurp(tmp("opt_whole/history_optimality.svg")).find("<polyline"), std::string::npos);
     EXPECT_NE(slurp(tmp("opt_whole/history_objective.svg")).find("<polyline"), std::string::npos);
     EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find("values,1,ok,"), std::string::npos);
-    EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find(",smallest_corner_ratio,max_mach,max_entropy,"), std::string::npos);
+    EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find(",smallest_corner_ratio,sharpest_wall_bend,max_mach,max_entropy,"), std::string::npos);
     EXPECT_NE(slurp(tmp("opt_whole/history_iterations.csv")).find("iteration,evaluations,gradients,objective,optimality"),
               std::string::npos);
     const auto wholeRecords = historyRecords(tmp("opt_whole/history.jsonl"));

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <functional>
 #include <numbers>
@@ -323,6 +324,61 @@ TEST(Quality, SharpestWallBendFindsAFoldAndTheTurnOfACurvedWall) {
     EXPECT_DOUBLE_EQ(f.x[0], f.node[0]);
 
     EXPECT_THROW(sharpestWallBend({cylinder, folded}, {kMin}), Error);
+}
+
+TEST(Quality, WallBendSmoothMaxBoundsTheSharpestBendAndItsGradientIsExact) {
+    // A wavy wall (face j = max of the second block, face k = 0 of the first): bends of a few
+    // to tens of degrees, no symmetry that could hide a wrong term.
+    const StructuredGrid a = makeGrid("a", {6, 5, 3}, [](int i, int j, int k) {
+        const double x = 0.3 * i, y = 0.25 * j;
+        return std::array<double, 3>{x, y + 0.05 * x * x, 0.4 * std::sin(2.1 * x + 0.7 * y) + 0.2 * k};
+    });
+    const StructuredGrid b = makeGrid("b", {5, 4, 4}, [](int i, int j, int k) {
+        const double x = 0.35 * i, z = 0.3 * k;
+        return std::array<double, 3>{x, 0.2 * j + 0.25 * std::cos(1.7 * x - 0.9 * z) * (j == 3 ? 1.0 : 0.3), z + 0.02 * x * z};
+    });
+    const std::vector<StructuredGrid> blocks{a, b};
+    const std::vector<std::array<bool, 6>> walls{{false, false, false, false, true, false},
+                                                 {false, false, false, true, false, false}};
+    const WallBend sharpest = sharpestWallBend(blocks, walls);
+    ASSERT_GT(sharpest.degrees, 5.0);
+    const double rho = 1000;
+    std::vector<std::vector<double>> grad;
+    const double smooth = wallBendSmoothMax(blocks, walls, rho, &grad);
+    // An upper bound within log(pairs) / rho of the largest 1 - cos.
+    const double pairs = 4 * 5 + 5 * 4 + 3 * 4 + 4 * 3;  // (ni-1) nj + ni (nj-1) per face
+    const double cosTop = std::cos(sharpest.degrees * std::numbers::pi / 180);
+    const double cosSmooth = std::cos(smooth * std::numbers::pi / 180);
+    EXPECT_GE(smooth, sharpest.degrees - 1e-9);
+    EXPECT_LE((1 - cosSmooth) - (1 - cosTop), std::log(pairs) / rho + 1e-12);
+    // Every coordinate's derivative against complex step.
+    std::vector<std::vector<std::complex<double>>> z(2);
+    for (int k = 0; k < 2; ++k) z[k].assign(blocks[k].xyz.begin(), blocks[k].xyz.end());
+    EXPECT_NEAR(wallBendSmoothMax(blocks, z, walls, rho).real(), smooth, 1e-12);
+    const double h = 1e-30;
+    double worst = 0, largest = 0;
+    int nonzero = 0;
+    for (int k = 0; k < 2; ++k) {
+        for (std::size_t c = 0; c < z[k].size(); ++c) {
+            z[k][c] += std::complex<double>(0, h);
+            const double cs = wallBendSmoothMax(blocks, z, walls, rho).imag() / h;
+            z[k][c] -= std::complex<double>(0, h);
+            worst = std::max(worst, std::abs(cs - grad[k][c]));
+            largest = std::max(largest, std::abs(cs));
+            if (grad[k][c] != 0) ++nonzero;
+        }
+    }
+    EXPECT_GT(largest, 1.0);
+    EXPECT_LT(worst, 1e-10 * largest) << worst << " of " << largest;
+    EXPECT_GT(nonzero, 40);
+    // Interior nodes off the walls have no derivative.
+    EXPECT_EQ(grad[0][3 * a.node(2, 2, 2)], 0.0);
+    // A flat wall (12 pairs, all s = 0): the bound's own margin, acos(1 - log(12) / rho), and a
+    // zero gradient (s is smallest there).
+    std::vector<std::vector<double>> flat;
+    EXPECT_NEAR(wallBendSmoothMax({uniformGrid("u", {3, 3, 3}, 1.0)}, {{false, false, false, false, true, false}}, rho, &flat),
+                std::acos(1 - std::log(12.0) / rho) * 180 / std::numbers::pi, 1e-9);
+    for (double v : flat[0]) EXPECT_NEAR(v, 0.0, 1e-12);
 }
 
 // Timing on the paper's grid size (900,000 nodes). Run with --gtest_also_run_disabled_tests.

@@ -12,6 +12,7 @@
 #include "ffd/ShapeConstraints.h"
 #include "io/CaseFile.h"
 #include "io/FlowFiles.h"
+#include "mesh/Quality.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
 #include "study/Optimization.h"
@@ -72,7 +73,7 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
 // optimizer after the flow ones, with their values at the start and gradient rows in the
 // optimizer's scaled variables (checked against differences of the model's functions).
-TEST(Optimization, ThicknessAndLatticeJacobianConstraintsReachTheOptimizer) {
+TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimizer) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/shape_constraints";
     std::filesystem::create_directories(dir);
     io::CaseFile c = small("sphere_to_bwb.json");
@@ -86,6 +87,7 @@ TEST(Optimization, ThicknessAndLatticeJacobianConstraintsReachTheOptimizer) {
     c.thickness.chordFractions = {0.25, 0.75};
     c.thickness.minRatio = 0.5;
     c.minLatticeJacobian = 0.2;
+    c.optimization.maxWallBend = 30;
     study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
     study::OptimizationOptions o;
     o.fresh = true;
@@ -102,15 +104,22 @@ TEST(Optimization, ThicknessAndLatticeJacobianConstraintsReachTheOptimizer) {
     const std::vector<study::OptimizationRecord> file = study::readHistory(study::historyJsonlPath(c.optimization.history));
     ASSERT_FALSE(file.empty());
     const std::vector<std::string>& names = file.front().constraintNames;
-    ASSERT_EQ(names.size(), 2u + 4u + 1u);  // volume, grid, 4 thickness points, lattice
-    EXPECT_EQ(names[2], "thickness y=0 x/c=0.25 / baseline");
-    EXPECT_EQ(names[6], "lattice det J / baseline (smooth min)");
+    ASSERT_EQ(names.size(), 3u + 4u + 1u);  // volume, grid, wall bend, 4 thickness points, lattice
+    EXPECT_EQ(names[2], "wall bend (degrees, smooth max)");
+    EXPECT_EQ(names[3], "thickness y=0 x/c=0.25 / baseline");
+    EXPECT_EQ(names[7], "lattice det J / baseline (smooth min)");
     ASSERT_TRUE(values && gradient);
     ASSERT_EQ(values->constraints.size(), names.size());
-    for (int k = 2; k < 6; ++k) EXPECT_NEAR(values->constraints[k], 1.0, 1e-12) << names[k];  // the start is the sphere
+    // The start is the sphere: its wall bend is the baseline grid's (KS bound and sharpest).
+    const std::vector<std::array<bool, 6>> walls = mesh::wallFaces(ev.baselineMesh());
+    EXPECT_NEAR(values->constraints[2], mesh::wallBendSmoothMax(ev.baselineGrids(), walls, 1000), 1e-12);
+    EXPECT_NEAR(values->wallBend, mesh::sharpestWallBend(ev.baselineGrids(), walls).degrees, 1e-12);
+    EXPECT_GT(values->constraints[2], values->wallBend);
+    EXPECT_LT(values->constraints[2], 30.0);
+    for (int k = 3; k < 7; ++k) EXPECT_NEAR(values->constraints[k], 1.0, 1e-12) << names[k];
     const ffd::FfdModel& model = *ev.model();
     const ffd::LatticeJacobianBound bound(model);
-    EXPECT_NEAR(values->constraints[6], 1.0 - std::log(static_cast<double>(bound.sampleCount())) / bound.rho(), 1e-12);
+    EXPECT_NEAR(values->constraints[7], 1.0 - std::log(static_cast<double>(bound.sampleCount())) / bound.rho(), 1e-12);
     // Gradient rows in the optimizer's variables (each divided by its range): central differences.
     const ffd::ThicknessConstraints thick(model, {c.thickness.stations, c.thickness.chordFractions, {}});
     const auto& vars = model.design().variables();
@@ -123,9 +132,9 @@ TEST(Optimization, ThicknessAndLatticeJacobianConstraintsReachTheOptimizer) {
         down[i] -= h * range;
         for (int k = 0; k < 4; ++k) {
             const double fd = (thick.ratios(up)[k] - thick.ratios(down)[k]) / (2 * h);
-            EXPECT_NEAR(gradient->dConstraints[2 + k][i], fd, 1e-6 * (1 + std::abs(fd))) << names[2 + k] << ", " << vars[i].name;
+            EXPECT_NEAR(gradient->dConstraints[3 + k][i], fd, 1e-6 * (1 + std::abs(fd))) << names[3 + k] << ", " << vars[i].name;
         }
         const double fd = (bound.value(up) - bound.value(down)) / (2 * h);
-        EXPECT_NEAR(gradient->dConstraints[6][i], fd, 1e-5 * (1 + std::abs(fd))) << vars[i].name;
+        EXPECT_NEAR(gradient->dConstraints[7][i], fd, 1e-5 * (1 + std::abs(fd))) << vars[i].name;
     }
 }
