@@ -115,7 +115,8 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
             const char* tag = r.replayed ? " [replayed]" : "";
             if (r.kind == study::OptimizationRecord::Kind::Values) {
                 if (r.ok) {
-                    const std::string grid = r.cornerRatio != 0 ? format(", smallest cell corner %.3g of its baseline", std::exp(r.cornerRatio)) : "";
+                    std::string grid = r.cornerRatio != 0 ? format(", smallest cell corner %.3g of its baseline", std::exp(r.cornerRatio)) : "";
+                    if (r.wallBend > 0) grid += format(", wall bend %.1f deg", r.wallBend);
                     say(format("evaluation %.0f: %s %.8g, CL %.6f, CD %.6f, volume %.6f, alpha %.4g%s, max Mach %.3f, %.0f flow "
                                "iterations%s, %.1f s%s",
                                static_cast<double>(r.index), c.optimization.objective.c_str(), r.J, r.CL, r.CD, r.volume,
