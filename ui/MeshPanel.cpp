@@ -18,6 +18,7 @@
 
 #include "QualityHistogram.h"
 #include "io/Options.h"
+#include "study/CaseEvaluator.h"
 #include "Text.h"
 
 namespace aero::ui {
@@ -117,7 +118,7 @@ MeshPanel::MeshPanel(QWidget* parent) : QWidget(parent) {
     summary_->setObjectName(QStringLiteral("meshSummary"));
     summary_->setWordWrap(true);
     summary_->setTextFormat(Qt::RichText);
-    summary_->setMinimumHeight(5 * summary_->fontMetrics().lineSpacing() + 8);
+    summary_->setMinimumHeight(8 * summary_->fontMetrics().lineSpacing() + 8);  // table, Jacobian, wall bend
     summary_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
     qualityLayout->addWidget(summary_);
     histogram_ = new QualityHistogram(quality_);
@@ -298,6 +299,21 @@ void MeshPanel::showMetric() {
     if (s.nonFinite > 0)
         text += tr("<p>%1 not finite (left out of the mean).</p>")
                     .arg(counted(s.nonFinite, tr("value"), tr("values")));
+    const mesh::WallBend& bend = result_->wallBend;
+    if (bend.block >= 0) {
+        const QString where = tr("block %1, node (%2, %3, %4)")
+                                  .arg(QString::fromStdString(bend.blockName))
+                                  .arg(bend.node[0])
+                                  .arg(bend.node[1])
+                                  .arg(bend.node[2]);
+        if (bend.degrees > study::kWallBendWarning)
+            text += tr("<p style='color:#b05000'><b>\u26a0 The wall turns by %1\u00b0 from one grid node to "
+                       "the next</b> (%2): a fold or a bend tighter than the grid; the flow there is not "
+                       "resolved and may not converge. Smooth the shape there or refine the grid.</p>")
+                        .arg(number(bend.degrees, 2), where);
+        else
+            text += tr("<p>Sharpest wall bend %1\u00b0 per grid node, %2.</p>").arg(number(bend.degrees, 2), where);
+    }
     summary_->setText(text);
 
     // Bins over the view's colour range, each bar in the colour of its middle.

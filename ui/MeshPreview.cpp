@@ -181,6 +181,7 @@ MeshPreviewResult runMeshPreview(const MeshPreviewInput& in, const MeshPreviewPr
     r.grids = std::move(m.grids);
     r.quality = std::move(m.cellQuality);
     r.summary = std::move(m.quality);
+    r.wallBend = m.wallBend;
     r.moved = m.moved;
     r.move = std::move(m.move);
     if (r.moved && r.move.status != mesh::SolveStatus::Converged) {

@@ -80,6 +80,7 @@ struct MeshPreviewResult {
     std::vector<mesh::StructuredGrid> grids;  // regenerated grid, one per block
     std::vector<mesh::CellQuality> quality;   // per block
     mesh::QualitySummary summary;             // over all blocks; worst cells by scaled Jacobian
+    mesh::WallBend wallBend;                  // the wall's sharpest node-to-node turn
     bool moved = false;                       // the wall differed from the baseline's
     mesh::MoveReport move;                    // when moved
     std::vector<double> wall;                 // the input's wall (what the grid was made for)

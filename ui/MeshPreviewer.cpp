@@ -19,6 +19,7 @@
 #include "VtkViewport.h"
 #include "common/Error.h"
 #include "io/CaseWriter.h"
+#include "study/CaseEvaluator.h"
 
 namespace aero::ui {
 
@@ -268,6 +269,14 @@ QString MeshPreviewer::problem() const {
     }
     if (result_->status == MeshPreviewStatus::NotConverged)
         parts << tr("Mesh preview: %1.").arg(QString::fromStdString(result_->message));
+    const mesh::WallBend& bend = result_->wallBend;
+    if (bend.degrees > study::kWallBendWarning)
+        parts << tr("Mesh preview: the wall turns by %1\u00b0 from one grid node to the next at block %2 "
+                    "node (%3, %4, %5); the flow there is not resolved and may not converge.")
+                     .arg(QString::number(bend.degrees, 'f', 0), QString::fromStdString(bend.blockName))
+                     .arg(bend.node[0])
+                     .arg(bend.node[1])
+                     .arg(bend.node[2]);
     return parts.join(QLatin1Char(' '));
 }
 

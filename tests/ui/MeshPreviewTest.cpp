@@ -176,6 +176,10 @@ void MeshPreviewTest::previewOfThePapersLatticeHasPositiveJacobians() {
     QVERIFY2(panel().summaryLabel()->text().contains(
                  QStringLiteral("No cell with a non-positive Jacobian")),
              qPrintable(panel().summaryLabel()->text()));
+    // The sphere's wall turns by about 3 degrees per grid node: said, not warned about.
+    QVERIFY(r->wallBend.degrees > 1 && r->wallBend.degrees < 5);
+    QVERIFY2(panel().summaryLabel()->text().contains(QStringLiteral("Sharpest wall bend")),
+             qPrintable(panel().summaryLabel()->text()));
     QCOMPARE(panel().worstCellTable()->rowCount(), static_cast<int>(r->summary.worst.size()));
     QVERIFY(panel().worstCellTable()->rowCount() > 5);
     const auto& counts = panel().histogram()->counts();
