@@ -81,6 +81,7 @@ struct Row {
     std::string message;
     int redraws = 0;
     double CL = 0, CD = 0, maxMach = 0, orders = 0, seconds = 0, peakMb = 0;
+    double wallBend = 0;  // degrees, the wall's sharpest node-to-node turn (0: no grid)
     std::string maxMachAt;
     int iterations = 0, gmres = 0;
     long nodes = 0;
@@ -164,6 +165,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             row.status = study::evaluationStatusName(e.status);
             row.message = e.message;
             (void)lastIteration;
+            if (e.mesh && !e.mesh->grids.empty()) row.wallBend = e.mesh->wallBend.degrees;
             if (noFlow) row.converged = e.ok();
             if (e.flow) {
                 const flow::FlowReport& r = e.flow->report;
@@ -184,9 +186,10 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             }
             row.peakMb = peakMemoryMb();
             char line[512];
-            std::snprintf(line, sizeof line, "%-14s %-18s CL %8.4f  CD %8.4f  max Mach %.3f  %5.1f orders  %3d it  %5d GMRES  %6.1f s%s",
-                          row.label.c_str(), row.status.c_str(), row.CL, row.CD, row.maxMach, row.orders, row.iterations,
-                          row.gmres, row.seconds, row.warm ? "  (warm)" : "");
+            std::snprintf(line, sizeof line,
+                          "%-14s %-18s CL %8.4f  CD %8.4f  max Mach %.3f  bend %4.1f deg  %5.1f orders  %3d it  %5d GMRES  %6.1f s%s",
+                          row.label.c_str(), row.status.c_str(), row.CL, row.CD, row.maxMach, row.wallBend, row.orders,
+                          row.iterations, row.gmres, row.seconds, row.warm ? "  (warm)" : "");
             say(line);
             if (!e.ok()) say("  why: " + e.message);
             rows.push_back(row);
@@ -202,11 +205,12 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             (feasible ? ", " + std::to_string(designs.linearRejections()) + " for a linear constraint" : std::string()));
         if (!csvPath.empty()) {
             std::ostringstream out;
-            out << "design,status,converged,orders,iterations,gmres,seconds,peak_memory_mb,CL,CD,max_mach,max_mach_at,redraws,nodes\n";
+            out << "design,status,converged,orders,iterations,gmres,seconds,peak_memory_mb,CL,CD,max_mach,max_mach_at,"
+                   "sharpest_wall_bend,redraws,nodes\n";
             for (const Row& r : rows) {
                 out << r.label << ',' << r.status << ',' << (r.converged ? 1 : 0) << ',' << r.orders << ',' << r.iterations << ','
                     << r.gmres << ',' << r.seconds << ',' << r.peakMb << ',' << r.CL << ',' << r.CD << ',' << r.maxMach << ",\""
-                    << r.maxMachAt << "\"," << r.redraws << ',' << r.nodes << '\n';
+                    << r.maxMachAt << "\"," << r.wallBend << ',' << r.redraws << ',' << r.nodes << '\n';
             }
             writeTextAtomically(csvPath, out.str(), "sweep CSV");
             say("wrote " + csvPath);
@@ -225,7 +229,8 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
                                {"message", r.message},   {"orders", r.orders},   {"iterations", r.iterations},
                                {"gmres", r.gmres},       {"seconds", r.seconds}, {"peak_memory_mb", r.peakMb},
                                {"CL", r.CL},             {"CD", r.CD},           {"max_mach", r.maxMach},
-                               {"max_mach_at", r.maxMachAt}, {"redraws", r.redraws}, {"grid_nodes", r.nodes},
+                               {"max_mach_at", r.maxMachAt}, {"sharpest_wall_bend", r.wallBend},
+                               {"redraws", r.redraws}, {"grid_nodes", r.nodes},
                                {"warm_start", r.warm}});
             }
             j["rows"] = arr;

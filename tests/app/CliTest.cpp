@@ -611,6 +611,9 @@ TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
     EXPECT_GE(j["rows"][0]["orders"].get<double>(), 10.0);
     EXPECT_EQ(j["rows"][0]["grid_nodes"], 4320);
     EXPECT_LT(j["rows"][0]["max_mach"].get<double>(), 1.0);
+    // The sample's thin wing tip turns by about 20 degrees per grid node on this grid.
+    EXPECT_GT(j["rows"][0]["sharpest_wall_bend"].get<double>(), 10.0);
+    EXPECT_LT(j["rows"][0]["sharpest_wall_bend"].get<double>(), 25.0);
     EXPECT_EQ(j["rows"][1]["design"], "random 1");
     EXPECT_GE(j["rows"][1]["redraws"].get<int>(), 0);
     std::istringstream rows(slurp(csv));
@@ -618,6 +621,7 @@ TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
     int n = 0;
     while (std::getline(rows, line)) ++n;
     EXPECT_EQ(n, 3);  // header + 2 designs
+    EXPECT_NE(slurp(csv).find(",max_mach_at,sharpest_wall_bend,redraws,"), std::string::npos);
     EXPECT_NE(r.err.find("2 of 2 designs converged"), std::string::npos) << r.err;
 
     const std::string cases = outputPath("cli_sweep_cases");
