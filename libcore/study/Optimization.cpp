@@ -466,6 +466,11 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     }
     const fs::path stateDir = fs::path(summary.historyJsonl).replace_extension(".states");
     if (!fs::path(oc.history).parent_path().empty()) fs::create_directories(fs::path(oc.history).parent_path());
+    // The best shape's folder too, now: a missing folder found after hours of evaluations would
+    // lose the shape the run was for.
+    if (!c.outputGeometry.empty() && !fs::path(c.outputGeometry).parent_path().empty()) {
+        fs::create_directories(fs::path(c.outputGeometry).parent_path());
+    }
     OptimizationRecord header;
     header.kind = Kind::Header;
     header.optimizer = oc.optimizer;

@@ -88,12 +88,17 @@ TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimiz
     c.thickness.minRatio = 0.5;
     c.minLatticeJacobian = 0.2;
     c.optimization.maxWallBend = 30;
+    // The best shape into a folder that does not exist yet: made at the start, not found missing
+    // at the end of the run.
+    std::filesystem::remove_all(dir + "/shapes");
+    c.outputGeometry = dir + "/shapes/best.igs";
     study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
     study::OptimizationOptions o;
     o.fresh = true;
     std::vector<study::OptimizationRecord> records;
     o.onRecord = [&](const study::OptimizationRecord& r) { records.push_back(r); };
     (void)study::optimizeCase(ev, o);
+    EXPECT_TRUE(std::filesystem::exists(dir + "/shapes/best.igs"));
     const study::OptimizationRecord* values = nullptr;
     const study::OptimizationRecord* gradient = nullptr;
     for (const auto& r : records) {
