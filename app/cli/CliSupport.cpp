@@ -79,4 +79,9 @@ bool parse(const Args& args, const std::set<std::string>& flags, const std::set<
     return true;
 }
 
+nlohmann::ordered_json wallBendJson(const mesh::WallBend& b) {
+    return {{"degrees", b.degrees}, {"block", b.block}, {"block_name", b.blockName},
+            {"node", b.node},       {"neighbour", b.neighbour}, {"x", b.x}};
+}
+
 }  // namespace aero::app

@@ -9,8 +9,11 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "common/Error.h"
 #include "geometry/PatchSet.h"
+#include "mesh/Quality.h"
 
 namespace aero::app {
 
@@ -26,6 +29,9 @@ std::string extension(const std::string& path);
 geometry::PatchSet loadPatchSet(const std::string& path);
 /// Writes .json, .igs/.iges or .stp/.step by extension; InputError for anything else.
 void savePatchSet(const geometry::PatchSet& set, const std::string& path);
+
+/// The wall's sharpest node-to-node bend as the JSON summaries of mesh and flow report it.
+nlohmann::ordered_json wallBendJson(const mesh::WallBend& b);
 
 /// Splits args into positionals and options; `flags` take no value, `valued` take one.
 /// Returns false with `error` set on an unknown option or a missing value.

@@ -289,11 +289,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["blocks"] = fm.blocks.size();
             j["grid_nodes"] = fm.nodeCount;
             j["largest_spacing_jump"] = e.mesh->spacingJump.ratio;
-            {
-                const mesh::WallBend& bend = e.mesh->wallBend;
-                j["sharpest_wall_bend"] = {{"degrees", bend.degrees}, {"block", bend.block}, {"block_name", bend.blockName},
-                                           {"node", bend.node}, {"neighbour", bend.neighbour}, {"x", bend.x}};
-            }
+            j["sharpest_wall_bend"] = wallBendJson(e.mesh->wallBend);
             j["deformed"] = e.mesh->moved;
             j["restarted_from"] = restartFrom;
             j["seconds_solve"] = rep.seconds;

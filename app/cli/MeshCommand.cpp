@@ -141,8 +141,7 @@ int runMesh(const std::string& casePath, bool json) {
             j["min_scaled_jacobian"] = qs.scaledJacobian.min;
             j["max_aspect_ratio"] = qs.aspectRatio.max;
             j["non_positive_cells"] = qs.nonPositiveJacobian;
-            j["sharpest_wall_bend"] = {{"degrees", bend.degrees}, {"block", bend.block}, {"block_name", bend.blockName},
-                                       {"node", bend.node}, {"neighbour", bend.neighbour}, {"x", bend.x}};
+            j["sharpest_wall_bend"] = wallBendJson(bend);
             j["quality"] = {{"min_jacobian", metricJson(qs.minJacobian)},   {"scaled_jacobian", metricJson(qs.scaledJacobian)},
                             {"orthogonality", metricJson(qs.orthogonality)}, {"aspect_ratio", metricJson(qs.aspectRatio)},
                             {"skewness", metricJson(qs.skewness)}};
