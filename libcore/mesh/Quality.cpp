@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "common/Error.h"
+#include "common/Scalar.h"
 
 namespace aero::mesh {
 
@@ -427,9 +428,6 @@ void pairNormal(const T* x, const WallPair& w, int a, T u[3], T v[3], T n[3]) {
     n[2] = u[0] * v[1] - u[1] * v[0];
 }
 
-inline double realPart(double x) { return x; }
-inline double realPart(const std::complex<double>& x) { return x.real(); }
-
 // s = 1 - n0 . n1 of a pair's unit normals (2 sin^2 of half the angle: smooth where the angle is
 // 0, unlike the angle); false when a normal is undefined (a collapsed edge).
 template <class T>
@@ -477,21 +475,26 @@ WallBend sharpestWallBend(const std::vector<StructuredGrid>& blocks, const std::
 
 namespace {
 
+// The parts of the smooth maximum S = top + log(sum) / rho over the pairs' s.
+template <class T>
+struct BendKs {
+    std::vector<T> s;  // per pair; -1 where a normal is undefined
+    double top = -1;   // the largest s (-1: none)
+    T sum = T(0.0);    // sum of exp(rho (s - top)) over the defined pairs
+};
+
 // The smooth maximum over the pairs of s (Kreisselmeier-Steinhauser), in degrees.
 template <class T>
-T bendSmoothMax(const std::vector<WallPair>& pairs, const std::vector<const T*>& xyz, double rho, std::vector<T>* measures) {
-    std::vector<T> s(pairs.size(), T(-1.0));  // -1: undefined
-    double top = -1;
+T bendSmoothMax(const std::vector<WallPair>& pairs, const std::vector<const T*>& xyz, double rho, BendKs<T>& ks) {
+    ks.s.assign(pairs.size(), T(-1.0));
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        if (pairMeasure(xyz[pairs[k].block], pairs[k], s[k])) top = std::max(top, realPart(s[k]));
+        if (pairMeasure(xyz[pairs[k].block], pairs[k], ks.s[k])) ks.top = std::max(ks.top, realPart(ks.s[k]));
     }
-    if (top < 0) return T(0.0);
-    T sum(0.0);
-    for (const T& x : s) {
-        if (realPart(x) >= 0) sum += std::exp(T(rho) * (x - T(top)));
+    if (ks.top < 0) return T(0.0);
+    for (const T& x : ks.s) {
+        if (realPart(x) >= 0) ks.sum += std::exp(T(rho) * (x - T(ks.top)));
     }
-    const T S = T(top) + std::log(sum) / T(rho);
-    if (measures) *measures = std::move(s);
+    const T S = T(ks.top) + std::log(ks.sum) / T(rho);
     return realPart(S) >= 2.0 ? T(180.0) : degreesOfMeasure(S);
 }
 
@@ -502,23 +505,17 @@ double wallBendSmoothMax(const std::vector<StructuredGrid>& blocks, const std::v
     const std::vector<WallPair> pairs = wallPairs(blocks, wallFaces, "wallBendSmoothMax");
     std::vector<const double*> xyz;
     for (const StructuredGrid& g : blocks) xyz.push_back(g.xyz.data());
-    std::vector<double> s;
-    const double deg = bendSmoothMax(pairs, xyz, rho, &s);
+    BendKs<double> ks;
+    const double deg = bendSmoothMax(pairs, xyz, rho, ks);
     if (!gradient) return deg;
     gradient->assign(blocks.size(), {});
     for (std::size_t b = 0; b < blocks.size(); ++b) (*gradient)[b].assign(blocks[b].xyz.size(), 0.0);
-    if (s.empty() || deg <= 0 || deg >= 180) return deg;
+    if (ks.top < 0 || deg <= 0 || deg >= 180) return deg;
     // d deg / dS = (180 / pi) / sin(theta); dS / ds_k = exp(rho (s_k - top)) / sum.
-    double top = -1;
-    for (double x : s) top = std::max(top, x);
-    double sum = 0;
-    for (double x : s) {
-        if (x >= 0) sum += std::exp(rho * (x - top));
-    }
     const double dDeg = 180.0 / std::numbers::pi / std::sin(deg * std::numbers::pi / 180.0);
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        if (s[k] < 0) continue;
-        const double weight = dDeg * std::exp(rho * (s[k] - top)) / sum;
+        if (ks.s[k] < 0) continue;
+        const double weight = dDeg * std::exp(rho * (ks.s[k] - ks.top)) / ks.sum;
         if (weight == 0) continue;
         const WallPair& w = pairs[k];
         const double* x = xyz[w.block];
@@ -559,7 +556,8 @@ std::complex<double> wallBendSmoothMax(const std::vector<StructuredGrid>& blocks
         if (xyz[b].size() != blocks[b].xyz.size()) throw Error("wallBendSmoothMax: coordinates of another size");
         p.push_back(xyz[b].data());
     }
-    return bendSmoothMax(pairs, p, rho, static_cast<std::vector<std::complex<double>>*>(nullptr));
+    BendKs<std::complex<double>> ks;
+    return bendSmoothMax(pairs, p, rho, ks);
 }
 
 namespace {

@@ -125,7 +125,7 @@ SpacingJump largestSpacingJump(const std::vector<StructuredGrid>& blocks);
 /// (wallFaces[b][f], faces numbered 0 i=0, 1 i=max, 2 j=0, 3 j=max, 4 k=0, 5 k=max), each node's
 /// unit normal from the cross product of the two tangential differences (central inside the face,
 /// one-sided at its edges), and the angle between the normals of neighbouring face nodes. A wall
-/// resolved by the grid turns by a few degrees per node (the half-sphere's coarse level: 5); a
+/// resolved by the grid turns by a few degrees per node (the half-sphere's coarse level: 3); a
 /// fold or a bend tighter than the spacing turns by tens of degrees, and the flow there is not
 /// resolved (the optimizer's stalled blended-wing designs: 33-44 degrees). Nodes whose normal is
 /// undefined (a collapsed edge) are skipped. Throws Error when wallFaces does not match blocks.

@@ -134,6 +134,14 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     res.historyBytes = history->bytes();
     // The grid-validity and wall-bend functions go through the same transpose and mesh adjoint, last.
     std::vector<std::vector<double>> gxAll = gx;
+    // A per-block gradient (each grid's xyz layout) in the global node order.
+    auto appendGlobal = [&](const std::vector<std::vector<double>>& perBlock) {
+        std::vector<double> g(f.x.size(), 0.0);
+        for (std::size_t b = 0; b < perBlock.size(); ++b) {
+            std::copy(perBlock[b].begin(), perBlock[b].end(), g.begin() + 3 * f.mesh.blocks[b].offset);
+        }
+        gxAll.push_back(std::move(g));
+    };
     double cornerRatio = 0;
     if (o.cornerRatioRho > 0) {
         std::vector<std::vector<double>> perBlock;
@@ -142,21 +150,13 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             res.message = "the grid has a folded cell: no gradient of its corner ratio";
             return res;
         }
-        std::vector<double> g(f.x.size(), 0.0);
-        for (std::size_t b = 0; b < perBlock.size(); ++b) {
-            std::copy(perBlock[b].begin(), perBlock[b].end(), g.begin() + 3 * f.mesh.blocks[b].offset);
-        }
-        gxAll.push_back(std::move(g));
+        appendGlobal(perBlock);
     }
     double wallBend = 0;
     if (o.wallBendRho > 0) {
         std::vector<std::vector<double>> perBlock;
         wallBend = mesh::wallBendSmoothMax(m.grids, mesh::wallFaces(m.control), o.wallBendRho, &perBlock);
-        std::vector<double> g(f.x.size(), 0.0);
-        for (std::size_t b = 0; b < perBlock.size(); ++b) {
-            std::copy(perBlock[b].begin(), perBlock[b].end(), g.begin() + 3 * f.mesh.blocks[b].offset);
-        }
-        gxAll.push_back(std::move(g));
+        appendGlobal(perBlock);
     }
     std::vector<std::vector<double>> gb(gxAll.size(), std::vector<double>(m.control.control.size(), 0.0));
     for (std::size_t p = 0; p < gxAll.size(); ++p) {
