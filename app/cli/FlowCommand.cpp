@@ -45,7 +45,9 @@ const char* kFlowHelp =
     "state in the restart file (output.restart, or CASE.restart next to the case); during the\n"
     "solve that file is also rewritten every flow.checkpoint_seconds (60), so a killed run loses\n"
     "at most that much work. --restart FILE (or flow.restart) continues from it. Exit 1 if the\n"
-    "solver does not converge (the reason is printed; outputs are still written).\n"
+    "solver does not converge (the reason is printed; outputs are still written). The reason of\n"
+    "a stall names the fastest mode that grows in pseudo time at the final state, where it is and\n"
+    "what to do (flow.stall_modes, on by default: about 30 GMRES solves), or that none grows.\n"
     "\n"
     "  --restart FILE  start from this restart file (same grid) instead of the free stream\n"
     "  --adjoint LIST  after a converged solve, the discrete adjoint of each functional of LIST\n"
@@ -53,7 +55,7 @@ const char* kFlowHelp =
     "                  angle of attack, per degree (exit 1 if an adjoint does not converge)\n"
     "  --json          print one JSON summary on stdout (converged, status, orders_reduced,\n"
     "                  newton_iterations, linear_iterations, CL, CD, CM, seconds, grid_nodes,\n"
-    "                  peak_memory_mb, ...)\n"
+    "                  peak_memory_mb, stall_modes for a solve that did not converge, ...)\n"
     "  --help          this text\n";
 
 std::atomic<bool> gCancel{false};
@@ -284,6 +286,26 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["max_mach_at"] = where(fr.maxMach);
             j["max_entropy_at"] = where(fr.maxEntropy);
             j["largest_residual_at"] = where(fr.largestResidual);
+            if (fr.modesChecked) {
+                // Why a solve did not converge: the growing modes at its final state.
+                nlohmann::ordered_json mj;
+                mj["arnoldi_steps"] = fr.modes.steps;
+                mj["linear_iterations"] = fr.modes.linearIterations;
+                mj["seconds"] = fr.modes.seconds;
+                mj["converged_modes"] = fr.modes.modes.size();
+                if (!fr.modes.failure.empty()) mj["failure"] = fr.modes.failure;
+                const adjoint::FlowMode* g = fr.modes.growing();
+                mj["growing"] = g != nullptr;
+                if (g) {
+                    mj["rate"] = g->rate.real();
+                    mj["frequency"] = std::abs(g->rate.imag());
+                    mj["at"] = where(fr.modeAt);
+                    mj["mach_at"] = fr.modeAt.value;
+                } else if (!fr.modes.modes.empty()) {
+                    mj["slowest_decay"] = -fr.modes.modes.front().rate.real();
+                }
+                j["stall_modes"] = mj;
+            }
             j["mach"] = fr.residualOptions.freeStream.mach;
             j["alpha"] = fr.residualOptions.freeStream.alphaDeg;
             j["blocks"] = fm.blocks.size();

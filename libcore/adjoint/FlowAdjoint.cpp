@@ -25,6 +25,22 @@ double norm(const std::vector<double>& v) {
 
 }  // namespace
 
+void factorPseudoTimePreconditioner(const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                                    const std::vector<double>& q, const flow::ResidualOptions& o, double cfl,
+                                    int fill, int parts, bool transposed, flow::BlockIlu& ilu) {
+    flow::ResidualOptions approx = o;
+    approx.lumpedDissipation = true;
+    approx.freezeCoefficients = true;
+    flow::BlockSparseMatrix P = flow::jacobianPattern(fm, 1);
+    flow::assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
+    std::vector<double> d = flow::timeStepScale(fm, metrics, q.data(), o.freeStream.gamma);
+    for (double& x : d) x /= cfl;
+    P.addDiagonal(d.data());
+    if (transposed && !P.transposeInPlace()) throw Error("adjoint: the preconditioner's pattern is not symmetric");
+    if (parts > 1) ilu.setOrdering(flow::partitionOrdering(P, flow::blockGroups(fm, parts), parts));
+    if (!ilu.factor(P, fill)) throw Error(std::string(transposed ? "adjoint" : "flow linearization") + " preconditioner: " + ilu.message());
+}
+
 FlowLinearization::FlowLinearization(const flow::FlowMesh& fm, const std::vector<double>& metrics,
                                      const std::vector<double>& q, const flow::ResidualOptions& o,
                                      const AdjointOptions& opt)
@@ -34,23 +50,10 @@ FlowLinearization::FlowLinearization(const flow::FlowMesh& fm, const std::vector
     flow::assembleJacobian(fm, metrics, q.data(), o, Jt_);
     // The flow Jacobian's pattern is structurally symmetric (stencils and interface pairs are).
     if (!Jt_.transposeInPlace()) throw Error("adjoint: the flow Jacobian's pattern is not symmetric");
-    // The forward solver's preconditioner at a large CFL: the approximate (lumped, frozen)
-    // Jacobian plus V/dt.
+    // The forward solver's preconditioner at a large CFL.
     // (ILU of the exact Jacobian instead was tried on the blended wing at refine 0.5: ILU(0) does
     // not converge in 3000 iterations, ILU(1) needs 160 iterations against 162 and is slower.)
-    flow::ResidualOptions approx = o;
-    approx.lumpedDissipation = true;
-    approx.freezeCoefficients = true;
-    flow::BlockSparseMatrix P = flow::jacobianPattern(fm, 1);
-    flow::assembleApproximateJacobian(fm, metrics, q.data(), approx, P);
-    std::vector<double> d = flow::timeStepScale(fm, metrics, q.data(), o.freeStream.gamma);
-    for (double& x : d) x /= opt_.cfl;
-    P.addDiagonal(d.data());
-    if (!P.transposeInPlace()) throw Error("adjoint: the preconditioner's pattern is not symmetric");
-    if (opt_.iluParts > 1) {
-        ilu_.setOrdering(flow::partitionOrdering(P, flow::blockGroups(fm, opt_.iluParts), opt_.iluParts));
-    }
-    if (!ilu_.factor(P, opt_.iluFill)) throw Error("adjoint preconditioner: " + ilu_.message());
+    factorPseudoTimePreconditioner(fm, metrics, q, o, opt_.cfl, opt_.iluFill, opt_.iluParts, true, ilu_);
     secondsAssembly_ = since(t0);
 }
 

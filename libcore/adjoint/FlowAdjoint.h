@@ -49,6 +49,13 @@ struct LinearSolveReport {
     bool converged() const { return status == LinearStatus::Converged; }
 };
 
+/// The flow solver's preconditioner at a CFL: ILU(fill) of the approximate (lumped dissipation,
+/// frozen coefficients) Jacobian plus V/dt (flow::timeStepScale / cfl), in `parts` groups of
+/// blocks; of its transpose when `transposed`. Throws flow::Error on a singular pivot.
+void factorPseudoTimePreconditioner(const flow::FlowMesh& fm, const std::vector<double>& metrics,
+                                    const std::vector<double>& q, const flow::ResidualOptions& o, double cfl,
+                                    int fill, int parts, bool transposed, flow::BlockIlu& ilu);
+
 class FlowLinearization {
 public:
     /// Assembles dR/dq at q (exact, coloured complex step) and factors the preconditioner.

@@ -62,6 +62,8 @@ struct FlowCase {
     flow::NewtonOptions newton;
     std::string restart;              // start from this restart file (resolved), empty: free stream
     bool gridSequencing = false;      // a cold start first solves on half the grid intervals
+    bool stallModes = true;           // a solve that does not converge looks for the linear modes
+                                      // that grow in pseudo time at its final state (the reason)
     double checkpointSeconds = 60;    // `aeroform-cli flow` writes its restart file at most this
                                       // often during the solve (0: every iteration)
 };

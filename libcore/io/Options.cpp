@@ -254,6 +254,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         o.push_back(boolean<FlowCase>("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
                             "a cold start first converges on half the grid intervals of the same analytic grid (exact "
                             "prolongation in the grid parameters), then on the case's grid"));
+        o.push_back(boolean<FlowCase>("stall_modes", [](FlowCase& c) -> bool& { return c.stallModes; },
+                            "a solve that does not converge looks for the linear modes of the flow that grow in "
+                            "pseudo time at its final state (Arnoldi on one implicit step at CFL 50: about 30 GMRES "
+                            "solves) and names the fastest, where it is and what to do in its reason; none growing "
+                            "means a steady state the solver's path missed"));
         return o;
     }();
     return options;

@@ -495,6 +495,10 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             why += format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
         }
         if (m.wallBend.degrees > kWallBendWarning) why += "; " + describeWallBend(m.wallBend);
+        if (case_.flow.stallModes && (f->report.status == flow::FlowStatus::Stalled ||
+                                      f->report.status == flow::FlowStatus::MaxIterations)) {
+            why += stallModes(*f, mach, say, cancel);
+        }
         if (f->coldRetry()) {
             why += format(" (solved from the free stream after the warm start stopped: %s after %d iterations)",
                           flow::flowStatusName(f->warmReport.status), f->warmReport.iterations);
@@ -504,6 +508,48 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         warm_ = f->q;
     }
     e.secondsFlow = since(t);
+}
+
+namespace {
+
+// The fastest-growing mode for a human: how fast, where, and what to do.
+std::string describeMode(const adjoint::FlowMode& md, const FlowLocation& at) {
+    const double re = md.rate.real(), im = std::abs(md.rate.imag());
+    const std::string kind = im > 1e-3 * std::abs(md.rate) ? format("oscillating at %.2g", im) : std::string("not oscillating");
+    return format("the linearized flow has a mode that grows in pseudo time (rate %.2g per CFL-1 step, %s), largest at %s, "
+                  "local Mach number %.2f: the flow there is unstable in pseudo time on this grid at this "
+                  "dissipation, likely unsteady (a separated region, e.g. behind a blunt trailing edge); a larger "
+                  "flow.kappa4 may damp it, or change the shape there",
+                  re, kind.c_str(), describe(at).c_str(), at.value);
+}
+
+}  // namespace
+
+std::string CaseEvaluator::stallModes(FlowResult& f, const std::vector<double>& mach,
+                                      const std::function<void(const std::string&)>& say,
+                                      const std::atomic<bool>* cancel) const {
+    if (cancel && cancel->load()) return {};
+    if (!flow::isPhysical(f.mesh, f.q.data(), f.residualOptions.freeStream.gamma)) return {};
+    say("looking for modes that grow in pseudo time at the final state (flow.stall_modes)");
+    try {
+        f.modes = adjoint::pseudoTimeModes(f.mesh, f.metrics, f.q, f.residualOptions);
+    } catch (const std::exception& ex) {
+        say(std::string("the mode analysis failed: ") + ex.what());
+        return {};
+    }
+    f.modesChecked = true;
+    say(format("mode analysis: %d Arnoldi steps, %d GMRES iterations, %.1f s, %zu converged modes%s%s", f.modes.steps,
+               f.modes.linearIterations, f.modes.seconds, f.modes.modes.size(), f.modes.failure.empty() ? "" : "; ",
+               f.modes.failure.c_str()));
+    if (const adjoint::FlowMode* g = f.modes.growing()) {
+        f.modeAt = locate(f.mesh, f.x, g->node, mach[static_cast<std::size_t>(g->node)]);
+        return "; " + describeMode(*g, f.modeAt);
+    }
+    if (!f.modes.failure.empty() || f.modes.modes.empty()) return {};
+    return format("; no mode of the linearized flow grows at the final state (%zu slowest checked, the slowest decays at "
+                  "%.2g per CFL-1 step): a steady state may exist that the solver's path missed (flow.grid_sequencing, "
+                  "or a warm start from a nearby converged design, may reach it)",
+                  f.modes.modes.size(), -f.modes.modes.front().rate.real());
 }
 
 Evaluation CaseEvaluator::evaluate(const std::vector<double>& v, const EvaluationRequest& request,

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "adjoint/FlowModes.h"
 #include "ffd/Injectivity.h"
 #include "flow/FlowMesh.h"
 #include "flow/FlowSolver.h"
@@ -147,6 +148,12 @@ struct FlowResult {
     flow::ForceCoefficients forces;
     FlowLocation maxMach, maxEntropy;       // largest local Mach number, largest |s - s_inf|
     FlowLocation largestResidual;           // largest |R| per unit volume at the final state
+    /// A solve that did not converge (flow.stall_modes): the linear modes of the pseudo-time
+    /// dynamics at its final state (adjoint/FlowModes.h); `modesChecked` false when not looked for.
+    bool modesChecked = false;
+    adjoint::ModeReport modes;
+    FlowLocation modeAt;                    // where the fastest-growing mode is largest (value: its
+                                            // local Mach number)
 };
 
 struct Evaluation {
@@ -209,6 +216,10 @@ private:
                       const std::atomic<bool>* cancel);
     void evaluateFlow(Evaluation& e, const EvaluationRequest& request, const ProgressFn& progress,
                       const std::atomic<bool>* cancel);
+    // A solve that did not converge: the growing modes at its final state (f.modes, f.modeAt),
+    // described for the reason ("" when none was looked for or found).
+    std::string stallModes(FlowResult& f, const std::vector<double>& mach,
+                           const std::function<void(const std::string&)>& say, const std::atomic<bool>* cancel) const;
 
     io::CaseFile case_;
     geometry::PatchSet baseline_;
