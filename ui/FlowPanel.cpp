@@ -9,6 +9,7 @@
 #include <QLabel>
 #include <QLocale>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSignalBlocker>
 #include <QSlider>
 #include <QSpinBox>
@@ -88,14 +89,26 @@ FlowPanel::FlowPanel(QWidget* parent) : QWidget(parent) {
     buttons->addWidget(solve_, 1);
     buttons->addWidget(continue_);
     runLayout->addLayout(buttons);
-    status_ = new QLabel(tr("No solution yet."), runBox);
+    // The status in a scroll area of its own: a failed solve's reason runs to a dozen lines (the
+    // largest residual, the local Mach number, the wall's bend, the growing mode), one clause
+    // per line; a plain label in the dock's layout was cut after four.
+    auto* statusArea = new QScrollArea(runBox);
+    statusArea->setObjectName(QStringLiteral("flowStatusArea"));
+    statusArea->setWidgetResizable(true);
+    statusArea->setFrameShape(QFrame::NoFrame);
+    statusArea->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    statusText_ = tr("No solution yet.");
+    status_ = new QLabel(statusText_);
     status_->setObjectName(QStringLiteral("flowStatus"));
     status_->setWordWrap(true);
     status_->setTextFormat(Qt::PlainText);
     status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    status_->setMinimumHeight(3 * status_->fontMetrics().lineSpacing() + 4);
     status_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
-    runLayout->addWidget(status_);
+    statusArea->setWidget(status_);
+    const int line = status_->fontMetrics().lineSpacing();
+    statusArea->setMinimumHeight(3 * line + 4);
+    statusArea->setMaximumHeight(10 * line + 4);
+    runLayout->addWidget(statusArea);
     progress_ = new QLabel(runBox);
     progress_->setObjectName(QStringLiteral("flowProgress"));
     progress_->setWordWrap(true);
@@ -283,7 +296,12 @@ void FlowPanel::setCanContinue(bool can) {
 }
 
 void FlowPanel::setStatus(const QString& text, Tone tone) {
-    status_->setText(text);
+    // One clause of a reason per line (its parts are joined by "; ").
+    QString shown = text;
+    shown.replace(QStringLiteral("; "), QStringLiteral(";\n"));
+    status_->setText(shown);
+    status_->setToolTip(text);
+    statusText_ = text;
     const char* colour = tone == Tone::Busy      ? "#1f4e9a"
                          : tone == Tone::Good    ? "#1d6b2f"
                          : tone == Tone::Warning ? "#a05a00"
@@ -294,7 +312,7 @@ void FlowPanel::setStatus(const QString& text, Tone tone) {
 }
 
 QString FlowPanel::statusText() const {
-    return status_->text();
+    return statusText_;
 }
 
 void FlowPanel::setProgress(const QString& text) {

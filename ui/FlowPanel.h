@@ -114,6 +114,7 @@ class FlowPanel : public QWidget {
     QPushButton* solve_ = nullptr;
     QPushButton* continue_ = nullptr;
     QLabel* status_ = nullptr;
+    QString statusText_;  // as set (the label shows one clause per line)
     QLabel* progress_ = nullptr;
     QGroupBox* forces_ = nullptr;
     std::vector<std::pair<QString, QLabel*>> forceLabels_;

@@ -13,6 +13,7 @@
 #include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
+#include <QScrollArea>
 #include <QElapsedTimer>
 #include <QFile>
 #include <QFileInfo>
@@ -498,6 +499,17 @@ void FlowSolveTest::aRunThatDoesNotConvergeSaysWhy() {
     QCOMPARE(s, State::NotConverged);
     QVERIFY2(panel().statusText().startsWith(QStringLiteral("Not converged: ")), qPrintable(panel().statusText()));
     QVERIFY2(runner().reason().contains(QStringLiteral("iterations")), qPrintable(runner().reason()));
+    // The pipeline's mode analysis (flow.stall_modes) ran in the background job and its verdict
+    // is in the reason: a mode that grows, or none.
+    QVERIFY2(runner().reason().contains(QStringLiteral("grows")), qPrintable(runner().reason()));
+    QTest::qWait(100);
+    QVERIFY(window_->grab().save(kScreenshotDir + QStringLiteral("/flow_not_converged.png")));
+    // The whole reason is there to read: the status scrolls (a plain label was cut after four
+    // lines).
+    auto* area = window_->findChild<QScrollArea*>(QStringLiteral("flowStatusArea"));
+    QVERIFY(area);
+    QVERIFY2(area->widget()->height() >= area->widget()->heightForWidth(area->widget()->width()),
+             "the status label is shorter than its text");
     QCOMPARE(runner().acceptedIterations(), 3);
     doc.undoStack()->undo();
     QCOMPARE(doc.undoStack()->count(), undoBefore + 1);
