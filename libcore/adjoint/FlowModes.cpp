@@ -111,6 +111,10 @@ ModeReport pseudoTimeModes(const flow::FlowMesh& fm, const std::vector<double>& 
     flow::GmresWorkspace krylov;
     std::vector<double> rhs(static_cast<std::size_t>(n));
     const CheckedMap step = [&](const double* in, double* out) {
+        if (opt.cancel && opt.cancel->load()) {
+            rep.failure = "cancelled";
+            return false;
+        }
         for (long i = 0; i < n; ++i) rhs[static_cast<std::size_t>(i)] = dc[static_cast<std::size_t>(i)] * in[i];
         std::fill(out, out + n, 0.0);
         const flow::GmresReport g = flow::gmres(

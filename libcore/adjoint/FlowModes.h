@@ -15,6 +15,7 @@
 // (|1 / (1 - c mu)| > 1 exactly when the mode grows at that step), found by Arnoldi with each
 // product one GMRES solve preconditioned as the flow solver does. No factorization of J: the cost
 // is about as many GMRES iterations as a few dozen Newton steps.
+#include <atomic>
 #include <complex>
 #include <functional>
 #include <string>
@@ -49,6 +50,8 @@ struct ModeOptions {
     int maxIterations = 600;  // GMRES products per solve
     int gmresRestart = 60;
     int gmresDeflation = 20;
+    const std::atomic<bool>* cancel = nullptr;  // set: stop between Arnoldi steps (ModeReport::failure
+                                                // "cancelled"), within one GMRES solve of the stop
 };
 
 struct FlowMode {

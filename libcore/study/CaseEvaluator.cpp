@@ -532,11 +532,14 @@ std::string CaseEvaluator::stallModes(FlowResult& f, const std::vector<double>& 
     if (!flow::isPhysical(f.mesh, f.q.data(), f.residualOptions.freeStream.gamma)) return {};
     say("looking for modes that grow in pseudo time at the final state (flow.stall_modes)");
     try {
-        f.modes = adjoint::pseudoTimeModes(f.mesh, f.metrics, f.q, f.residualOptions);
+        adjoint::ModeOptions mo;
+        mo.cancel = cancel;
+        f.modes = adjoint::pseudoTimeModes(f.mesh, f.metrics, f.q, f.residualOptions, mo);
     } catch (const std::exception& ex) {
         say(std::string("the mode analysis failed: ") + ex.what());
         return {};
     }
+    if (cancel && cancel->load()) return {};
     f.modesChecked = true;
     say(format("mode analysis: %d Arnoldi steps, %d GMRES iterations, %.1f s, %zu converged modes%s%s", f.modes.steps,
                f.modes.linearIterations, f.modes.seconds, f.modes.modes.size(), f.modes.failure.empty() ? "" : "; ",

@@ -3,6 +3,7 @@
 // pair must satisfy J v = -mu D v), and the reason a solve that did not converge gets.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <complex>
@@ -116,6 +117,17 @@ TEST(FlowModes, TheFlowsModesAreEigenpairsOfTheExactJacobianAndDecayAtAConverged
     EXPECT_EQ(rep.growing(), nullptr) << "rate " << rep.modes.front().rate;
     for (std::size_t k = 1; k < rep.modes.size(); ++k) {
         EXPECT_GE(rep.modes[k - 1].rate.real(), rep.modes[k].rate.real());
+    }
+
+    // A cancelled analysis stops before its first solve and says so.
+    {
+        std::atomic<bool> stop{true};
+        adjoint::ModeOptions mo;
+        mo.cancel = &stop;
+        const adjoint::ModeReport cancelled = adjoint::pseudoTimeModes(f.mesh, f.metrics, f.q, f.residualOptions, mo);
+        EXPECT_EQ(cancelled.failure, "cancelled");
+        EXPECT_EQ(cancelled.steps, 0);
+        EXPECT_TRUE(cancelled.modes.empty());
     }
 
     // Each pair against the exact Jacobian and D = V/dtau of CFL 1: J v + mu D v = 0, relative
