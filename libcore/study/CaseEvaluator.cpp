@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 
 #include "common/Error.h"
@@ -540,6 +541,9 @@ std::string CaseEvaluator::stallModes(FlowResult& f, const std::vector<double>& 
         return {};
     }
     if (cancel && cancel->load()) return {};
+    // The summary is kept with the result (the GUI keeps 25 results, the optimizer its history):
+    // not the eigenvectors (8 MB each at 98k nodes).
+    for (adjoint::FlowMode& md : f.modes.modes) std::vector<std::complex<double>>().swap(md.vector);
     f.modesChecked = true;
     say(format("mode analysis: %d Arnoldi steps, %d GMRES iterations, %.1f s, %zu converged modes%s%s", f.modes.steps,
                f.modes.linearIterations, f.modes.seconds, f.modes.modes.size(), f.modes.failure.empty() ? "" : "; ",

@@ -179,6 +179,7 @@ TEST(FlowModes, ASolveThatDoesNotConvergeGetsTheModeAnalysisInItsReason) {
         ASSERT_TRUE(f.modesChecked);
         EXPECT_GT(f.modes.steps, 0);
         EXPECT_GT(f.modes.linearIterations, 0);
+        for (const adjoint::FlowMode& m : f.modes.modes) EXPECT_TRUE(m.vector.empty()) << "eigenvectors kept";
         if (const adjoint::FlowMode* g = f.modes.growing()) {
             EXPECT_NE(e.message.find("grows in pseudo time"), std::string::npos) << e.message;
             EXPECT_NE(e.message.find(f.modeAt.blockName), std::string::npos) << e.message;
