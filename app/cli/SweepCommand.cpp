@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -51,7 +52,7 @@ const char* kSweepHelp =
     "                    look at or re-run one with aeroform-cli flow/mesh/deform\n"
     "  --no-flow         shapes and grids only: how many draws are valid, without solving\n"
     "  --warm            warm-start every design from the last converged one\n"
-    "  --csv FILE        one row per design\n"
+    "  --csv FILE        one row per design (with growing_mode_rate for a flow that did not converge)\n"
     "  --json            one JSON summary on stdout\n"
     "  --help            this text\n"
     "Exit 0 when every design converged, 1 otherwise (each failure says why), 2 usage error.\n";
@@ -83,6 +84,9 @@ struct Row {
     double CL = 0, CD = 0, maxMach = 0, orders = 0, seconds = 0, peakMb = 0;
     double wallBend = 0;  // degrees, the wall's sharpest node-to-node turn (0: no grid)
     std::string maxMachAt;
+    // A flow that did not converge (flow.stall_modes): the fastest growing mode's rate, 0 when
+    // none grows; NaN when not looked for.
+    double growingMode = std::numeric_limits<double>::quiet_NaN();
     int iterations = 0, gmres = 0;
     long nodes = 0;
     bool converged = false;
@@ -183,6 +187,10 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
                 row.maxMachAt = w;
                 row.nodes = e.flow->mesh.nodeCount;
                 row.warm = e.flow->warmStarted;
+                if (e.flow->modesChecked) {
+                    const adjoint::FlowMode* g = e.flow->modes.growing();
+                    row.growingMode = g ? g->rate.real() : 0.0;
+                }
             }
             row.peakMb = peakMemoryMb();
             char line[512];
@@ -206,11 +214,13 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
         if (!csvPath.empty()) {
             std::ostringstream out;
             out << "design,status,converged,orders,iterations,gmres,seconds,peak_memory_mb,CL,CD,max_mach,max_mach_at,"
-                   "sharpest_wall_bend,redraws,nodes\n";
+                   "sharpest_wall_bend,growing_mode_rate,redraws,nodes\n";
             for (const Row& r : rows) {
                 out << r.label << ',' << r.status << ',' << (r.converged ? 1 : 0) << ',' << r.orders << ',' << r.iterations << ','
                     << r.gmres << ',' << r.seconds << ',' << r.peakMb << ',' << r.CL << ',' << r.CD << ',' << r.maxMach << ",\""
-                    << r.maxMachAt << "\"," << r.wallBend << ',' << r.redraws << ',' << r.nodes << '\n';
+                    << r.maxMachAt << "\"," << r.wallBend << ',';
+                if (!std::isnan(r.growingMode)) out << r.growingMode;  // empty: not looked for
+                out << ',' << r.redraws << ',' << r.nodes << '\n';
             }
             writeTextAtomically(csvPath, out.str(), "sweep CSV");
             say("wrote " + csvPath);
@@ -230,6 +240,8 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
                                {"gmres", r.gmres},       {"seconds", r.seconds}, {"peak_memory_mb", r.peakMb},
                                {"CL", r.CL},             {"CD", r.CD},           {"max_mach", r.maxMach},
                                {"max_mach_at", r.maxMachAt}, {"sharpest_wall_bend", r.wallBend},
+                               {"growing_mode_rate", std::isnan(r.growingMode) ? nlohmann::ordered_json()
+                                                                               : nlohmann::ordered_json(r.growingMode)},
                                {"redraws", r.redraws}, {"grid_nodes", r.nodes},
                                {"warm_start", r.warm}});
             }

@@ -621,7 +621,8 @@ TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
     int n = 0;
     while (std::getline(rows, line)) ++n;
     EXPECT_EQ(n, 3);  // header + 2 designs
-    EXPECT_NE(slurp(csv).find(",max_mach_at,sharpest_wall_bend,redraws,"), std::string::npos);
+    EXPECT_NE(slurp(csv).find(",max_mach_at,sharpest_wall_bend,growing_mode_rate,redraws,"), std::string::npos);
+    EXPECT_TRUE(j["rows"][0]["growing_mode_rate"].is_null());  // converged: not looked for
     EXPECT_NE(r.err.find("2 of 2 designs converged"), std::string::npos) << r.err;
 
     const std::string cases = outputPath("cli_sweep_cases");
@@ -636,6 +637,18 @@ TEST(Cli, SweepSolvesScaledAndRandomDesignsAndWritesOneRowEach) {
     ASSERT_TRUE(std::filesystem::exists(cases + "/random_2.json"));
     const Result again = run("deform '" + cases + "/random_2.json' --json");
     EXPECT_EQ(again.code, 0) << again.err;
+
+    // A design that does not converge carries the mode analysis's verdict (flow.stall_modes): the
+    // fastest growing mode's rate, 0 when none grows; in the CSV too.
+    c["flow"]["max_iterations"] = 3;
+    std::ofstream(path) << c.dump(1);
+    const Result stopped = run("sweep '" + path + "' --fractions 1 --csv '" + csv + "' --json");
+    EXPECT_EQ(stopped.code, 1) << stopped.err;
+    const auto jst = nlohmann::json::parse(stopped.out);
+    ASSERT_TRUE(jst["rows"][0]["growing_mode_rate"].is_number()) << stopped.out;
+    EXPECT_GE(jst["rows"][0]["growing_mode_rate"].get<double>(), 0.0);
+    EXPECT_NE(stopped.err.find("grows"), std::string::npos) << stopped.err;
+    EXPECT_EQ(slurp(csv).find(",\"block"), slurp(csv).rfind(",\"block"));  // one design row
 
     EXPECT_EQ(run("sweep '" + path + "' --spread -1").code, 2);
     EXPECT_EQ(run("sweep '" + path + "' --random x").code, 2);
