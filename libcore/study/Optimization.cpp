@@ -90,6 +90,7 @@ Json toJson(const OptimizationRecord& r) {
             j["volume"] = number(r.volume);
             j["corner_ratio"] = number(r.cornerRatio);
             j["wall_bend"] = number(r.wallBend);
+            if (std::isfinite(r.growingMode)) j["growing_mode_rate"] = r.growingMode;
             j["max_mach"] = number(r.maxMach);
             j["max_entropy"] = number(r.maxEntropy);
             j["alpha"] = number(r.alphaDeg);
@@ -148,6 +149,7 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.volume = number(j.at("volume"));
             if (j.contains("corner_ratio")) r.cornerRatio = number(j["corner_ratio"]);
             if (j.contains("wall_bend")) r.wallBend = number(j["wall_bend"]);
+            if (j.contains("growing_mode_rate")) r.growingMode = number(j["growing_mode_rate"]);
             if (j.contains("max_mach")) r.maxMach = number(j["max_mach"]);
             if (j.contains("max_entropy")) r.maxEntropy = number(j["max_entropy"]);
             r.alphaDeg = number(j.at("alpha"));
@@ -612,6 +614,10 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.volume = model.volume(v);
         r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
+        if (e->flow && e->flow->modesChecked) {
+            const adjoint::FlowMode* g = e->flow->modes.growing();
+            r.growingMode = g ? g->rate.real() : 0.0;
+        }
         if (e->flow) {
             // A warm start solved again from the free stream (CaseEvaluator's cold retry) counts both.
             r.flowIterations = static_cast<int>(e->flow->report.iterations + e->flow->warmReport.iterations);

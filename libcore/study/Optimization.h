@@ -17,6 +17,7 @@
 // iterates, bit for bit, without solving again what the history holds.
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct OptimizationRecord {
     double J = 0, CL = 0, CD = 0, CM = 0, volume = 0, alphaDeg = 0;
     double cornerRatio = 0;         // log of the grid's smallest corner ratio (smooth; 0: not computed)
     double wallBend = 0;            // the wall's sharpest node-to-node bend, degrees (0: no grid)
+    double growingMode = std::numeric_limits<double>::quiet_NaN();  // a flow that did not converge
+                                    // (flow.stall_modes): the fastest growing mode's rate, 0 when
+                                    // none grows; NaN when not looked for
     double maxMach = 0, maxEntropy = 0;  // the flow's largest local Mach number and |s - s_inf|: a
                                          // check that the optimizer's designs stay physical
     int flowIterations = 0;

@@ -70,6 +70,45 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     }
 }
 
+// An evaluation whose flow does not converge is recorded as failed with the mode analysis's
+// verdict (flow.stall_modes) in its message and as growing_mode_rate in the history's JSON lines,
+// which a resume reads back.
+TEST(Optimization, AFailedFlowsGrowingModeIsRecordedInTheHistory) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/failed_flow_history";
+    std::filesystem::create_directories(dir);
+    io::CaseFile c = small("sphere_to_bwb.json");
+    c.optimization.optimizer = "slsqp";
+    c.optimization.maxIterations = 1;
+    c.optimization.maxEvaluations = 1;
+    c.optimization.history = dir + "/history.csv";
+    c.optimization.iterations.clear();
+    c.outputGeometry.clear();
+    c.flow.newton.maxIterations = 3;  // not converged
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.fresh = true;
+    std::vector<study::OptimizationRecord> records;
+    o.onRecord = [&](const study::OptimizationRecord& r) { records.push_back(r); };
+    (void)study::optimizeCase(ev, o);
+    const study::OptimizationRecord* failed = nullptr;
+    for (const auto& r : records) {
+        if (r.kind == study::OptimizationRecord::Kind::Values && !r.ok && !failed) failed = &r;
+    }
+    ASSERT_TRUE(failed);
+    EXPECT_EQ(failed->status, "flow-not-converged");
+    ASSERT_TRUE(std::isfinite(failed->growingMode));
+    EXPECT_GE(failed->growingMode, 0.0);
+    EXPECT_NE(failed->message.find("grows"), std::string::npos) << failed->message;
+    const std::vector<study::OptimizationRecord> file = study::readHistory(study::historyJsonlPath(c.optimization.history));
+    bool found = false;
+    for (const auto& r : file) {
+        if (r.kind != study::OptimizationRecord::Kind::Values || r.index != failed->index) continue;
+        found = true;
+        EXPECT_EQ(r.growingMode, failed->growingMode);
+    }
+    EXPECT_TRUE(found);
+}
+
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
 // optimizer after the flow ones, with their values at the start and gradient rows in the
 // optimizer's scaled variables (checked against differences of the model's functions).
