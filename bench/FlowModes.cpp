@@ -159,68 +159,35 @@ int main(int argc, char** argv) {
             for (int v = 0; v < flow::kVars; ++v) d[flow::kVars * i + v] = scale[i];
         }
         const auto t1 = std::chrono::steady_clock::now();
-        Eigen::MatrixXd V(n, m + 1);
-        Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m + 1, m);
-        Eigen::VectorXd v0 = Eigen::VectorXd::Ones(n);
-        for (long i = 0; i < n; ++i) v0[i] += 0.1 * std::sin(0.37 * static_cast<double>(i));
-        V.col(0) = v0.normalized();
-        int steps = m;
-        for (int j = 0; j < m; ++j) {
-            const Eigen::VectorXd rhs = (d.array() * V.col(j).array()).matrix();
-            Eigen::VectorXd w = lu.solve(rhs);
-            for (int pass = 0; pass < 2; ++pass) {  // classical Gram-Schmidt, twice
-                const Eigen::VectorXd h = V.leftCols(j + 1).transpose() * w;
-                w -= V.leftCols(j + 1) * h;
-                H.col(j).head(j + 1) += h;
-            }
-            H(j + 1, j) = w.norm();
-            if (H(j + 1, j) < 1e-14 * H.col(j).norm()) {
-                steps = j + 1;
-                break;
-            }
-            V.col(j + 1) = w / H(j + 1, j);
-        }
-        Eigen::EigenSolver<Eigen::MatrixXd> es(H.topLeftCorner(steps, steps));
-        const Eigen::VectorXcd nu = es.eigenvalues();
-        const Eigen::MatrixXcd Y = es.eigenvectors();
-        std::vector<int> order(static_cast<std::size_t>(steps));
-        std::iota(order.begin(), order.end(), 0);
-        std::sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(nu[a]) > std::abs(nu[b]); });
+        const adjoint::CheckedMap shiftInvert = [&](const double* in, double* out) {
+            Eigen::VectorXd rhs(n);
+            for (long i = 0; i < n; ++i) rhs[i] = d[i] * in[i];
+            Eigen::Map<Eigen::VectorXd>(out, n) = lu.solve(rhs);
+            return true;
+        };
+        std::vector<double> start(static_cast<std::size_t>(n));
+        for (long i = 0; i < n; ++i) start[static_cast<std::size_t>(i)] = 1 + 0.1 * std::sin(0.37 * static_cast<double>(i));
+        const adjoint::RitzPairs ritz = adjoint::arnoldi(n, shiftInvert, start, m);
         std::printf("Arnoldi, %d steps, %.1f s: eigenvalues mu of -D^-1 J nearest 0 (Re mu > 0 grows in pseudo-time)\n",
-                    steps, since(t1));
-        const int show = std::min(steps, 24);
-        for (int k = 0; k < show; ++k) {
-            const int idx = order[static_cast<std::size_t>(k)];
-            const std::complex<double> mu = -1.0 / nu[idx];
-            const double res = std::abs(H(steps, steps - 1) * Y(steps - 1, idx)) / std::abs(nu[idx]);
-            std::printf("  mu %+.4e %+.4ei  (Ritz residual %.1e)%s\n", mu.real(), mu.imag(), res,
+                    ritz.steps, since(t1));
+        const std::size_t show = std::min<std::size_t>(ritz.values.size(), 24);
+        for (std::size_t k = 0; k < show; ++k) {
+            const std::complex<double> nu = ritz.values[k];
+            const std::complex<double> mu = -1.0 / nu;
+            std::printf("  mu %+.4e %+.4ei  (Ritz residual %.1e)%s\n", mu.real(), mu.imag(), ritz.residuals[k] / std::abs(nu),
                         mu.real() > 0 ? "  GROWS" : "");
             if (k < 6 || mu.real() > 0) {
                 // The eigenvector: where it lives (the 5 nodes of largest |v| and the share of the
                 // vector's squared norm in the largest 20).
-                const Eigen::VectorXcd vec = V.leftCols(steps).cast<std::complex<double>>() * Y.col(idx);
-                std::vector<double> nodeNorm(static_cast<std::size_t>(fm.nodeCount));
-                double total = 0;
-                for (long i = 0; i < fm.nodeCount; ++i) {
-                    double s = 0;
-                    for (int v = 0; v < flow::kVars; ++v) s += std::norm(vec[flow::kVars * i + v]);
-                    nodeNorm[static_cast<std::size_t>(i)] = s;
-                    total += s;
-                }
-                std::vector<long> nodes(static_cast<std::size_t>(fm.nodeCount));
-                std::iota(nodes.begin(), nodes.end(), 0L);
-                std::partial_sort(nodes.begin(), nodes.begin() + 20, nodes.end(),
-                                  [&](long a, long b) { return nodeNorm[a] > nodeNorm[b]; });
-                double top = 0;
-                for (int s = 0; s < 20; ++s) top += nodeNorm[static_cast<std::size_t>(nodes[s])];
-                std::printf("    largest 20 nodes hold %.0f%% of |v|^2; the largest:\n", 100 * top / total);
-                for (int s = 0; s < 5; ++s) {
-                    const long g = nodes[s];
+                const std::vector<std::complex<double>> vec = ritz.vector(k);
+                const adjoint::ModeLocation at = adjoint::locateMode(vec, fm.nodeCount);
+                std::printf("    largest 20 nodes hold %.0f%% of |v|^2; the largest:\n", 100 * at.regionShare);
+                for (std::size_t s = 0; s < std::min<std::size_t>(5, at.nodes.size()); ++s) {
+                    const long g = at.nodes[s];
                     std::printf("      %5.1f%%  %s, Mach %.2f; |v| rho %.2f, momentum %.2f %.2f %.2f, energy %.2f\n",
-                                100 * nodeNorm[static_cast<std::size_t>(g)] / total, where(fm, f.x, g).c_str(),
-                                machAt(&q[flow::kVars * g], o.freeStream.gamma), std::abs(vec[5 * g]),
-                                std::abs(vec[5 * g + 1]), std::abs(vec[5 * g + 2]), std::abs(vec[5 * g + 3]),
-                                std::abs(vec[5 * g + 4]));
+                                100 * at.shares[s], where(fm, f.x, g).c_str(), machAt(&q[flow::kVars * g], o.freeStream.gamma),
+                                std::abs(vec[5 * g]), std::abs(vec[5 * g + 1]), std::abs(vec[5 * g + 2]),
+                                std::abs(vec[5 * g + 3]), std::abs(vec[5 * g + 4]));
                 }
             }
         }

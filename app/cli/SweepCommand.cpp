@@ -187,10 +187,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
                 row.maxMachAt = w;
                 row.nodes = e.flow->mesh.nodeCount;
                 row.warm = e.flow->warmStarted;
-                if (e.flow->modesChecked) {
-                    const adjoint::FlowMode* g = e.flow->modes.growing();
-                    row.growingMode = g ? g->rate.real() : 0.0;
-                }
+                if (e.flow->modesChecked) row.growingMode = e.flow->modes.growthRate();
             }
             row.peakMb = peakMemoryMb();
             char line[512];

@@ -89,6 +89,32 @@ std::vector<std::complex<double>> RitzPairs::vector(std::size_t k) const {
     return v;
 }
 
+ModeLocation locateMode(const std::vector<std::complex<double>>& v, long nodeCount, int count) {
+    std::vector<double> nodeNorm(static_cast<std::size_t>(nodeCount));
+    double total = 0;
+    for (long i = 0; i < nodeCount; ++i) {
+        double s = 0;
+        for (int k = 0; k < flow::kVars; ++k) s += std::norm(v[static_cast<std::size_t>(flow::kVars * i + k)]);
+        nodeNorm[static_cast<std::size_t>(i)] = s;
+        total += s;
+    }
+    std::vector<long> nodes(static_cast<std::size_t>(nodeCount));
+    std::iota(nodes.begin(), nodes.end(), 0L);
+    const long top = std::min<long>(count, nodeCount);
+    std::partial_sort(nodes.begin(), nodes.begin() + top, nodes.end(), [&](long a, long b) {
+        return nodeNorm[static_cast<std::size_t>(a)] > nodeNorm[static_cast<std::size_t>(b)];
+    });
+    nodes.resize(static_cast<std::size_t>(top));
+    ModeLocation at;
+    for (long g : nodes) {
+        const double share = total > 0 ? nodeNorm[static_cast<std::size_t>(g)] / total : 0.0;
+        at.shares.push_back(share);
+        at.regionShare += share;
+    }
+    at.nodes = std::move(nodes);
+    return at;
+}
+
 ModeReport pseudoTimeModes(const flow::FlowMesh& fm, const std::vector<double>& metrics, const std::vector<double>& q,
                            const flow::ResidualOptions& o, const ModeOptions& opt, double converged) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -160,25 +186,10 @@ ModeReport pseudoTimeModes(const flow::FlowMesh& fm, const std::vector<double>& 
             dv += std::norm(muDv);
         }
         mode.defect = std::sqrt(defect) / (std::sqrt(jv) + std::sqrt(dv));
-        std::vector<double> nodeNorm(static_cast<std::size_t>(fm.nodeCount));
-        double total = 0;
-        for (long i = 0; i < fm.nodeCount; ++i) {
-            double s = 0;
-            for (int v = 0; v < flow::kVars; ++v) s += std::norm(vec[static_cast<std::size_t>(flow::kVars * i + v)]);
-            nodeNorm[static_cast<std::size_t>(i)] = s;
-            total += s;
-        }
-        std::vector<long> nodes(static_cast<std::size_t>(fm.nodeCount));
-        std::iota(nodes.begin(), nodes.end(), 0L);
-        const long top = std::min<long>(20, fm.nodeCount);
-        std::partial_sort(nodes.begin(), nodes.begin() + top, nodes.end(), [&](long a, long b) {
-            return nodeNorm[static_cast<std::size_t>(a)] > nodeNorm[static_cast<std::size_t>(b)];
-        });
-        double region = 0;
-        for (long s = 0; s < top; ++s) region += nodeNorm[static_cast<std::size_t>(nodes[static_cast<std::size_t>(s)])];
-        mode.node = nodes[0];
-        mode.share = total > 0 ? nodeNorm[static_cast<std::size_t>(nodes[0])] / total : 0;
-        mode.regionShare = total > 0 ? region / total : 0;
+        const ModeLocation at = locateMode(vec, fm.nodeCount);
+        mode.node = at.nodes.front();
+        mode.share = at.shares.front();
+        mode.regionShare = at.regionShare;
         rep.modes.push_back(std::move(mode));
     }
     std::stable_sort(rep.modes.begin(), rep.modes.end(),

@@ -77,7 +77,18 @@ struct ModeReport {
     std::string failure;          // non-empty: a GMRES solve failed (the modes are then partial)
     /// The fastest-growing converged mode, or null.
     const FlowMode* growing() const { return !modes.empty() && modes.front().grows() ? &modes.front() : nullptr; }
+    /// Its rate, 0 when none grows (the sweep's and the optimizer history's growing_mode_rate).
+    double growthRate() const { return growing() ? growing()->rate.real() : 0.0; }
 };
+
+/// Where a mode vector (5 values per node) lives: its `count` largest nodes by |v|^2, largest
+/// first, each one's share of |v|^2, and their shares' sum.
+struct ModeLocation {
+    std::vector<long> nodes;
+    std::vector<double> shares;
+    double regionShare = 0;
+};
+ModeLocation locateMode(const std::vector<std::complex<double>>& v, long nodeCount, int count = 20);
 
 /// The dominant modes of the implicit pseudo-time step at `q` (see the header comment). A Ritz
 /// pair counts as converged (is reported) when its FlowMode::residual is below `converged`.

@@ -614,10 +614,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.volume = model.volume(v);
         r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
-        if (e->flow && e->flow->modesChecked) {
-            const adjoint::FlowMode* g = e->flow->modes.growing();
-            r.growingMode = g ? g->rate.real() : 0.0;
-        }
+        if (e->flow && e->flow->modesChecked) r.growingMode = e->flow->modes.growthRate();
         if (e->flow) {
             // A warm start solved again from the free stream (CaseEvaluator's cold retry) counts both.
             r.flowIterations = static_cast<int>(e->flow->report.iterations + e->flow->warmReport.iterations);
