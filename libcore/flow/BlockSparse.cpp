@@ -12,22 +12,56 @@ long BlockSparseMatrix::find(long row, long col) const {
     return (it != last && *it == col) ? static_cast<long>(it - cols.begin()) : -1;
 }
 
-void BlockSparseMatrix::setZero() { std::fill(values.begin(), values.end(), 0.0); }
+void BlockSparseMatrix::setZero() {
+    std::vector<float>().swap(singleValues);  // before the doubles are allocated again
+    if (hasValues()) {
+        std::fill(values.begin(), values.end(), 0.0);
+    } else {
+        values.assign(kBlockSize * cols.size(), 0.0);
+    }
+}
 
-void BlockSparseMatrix::mult(const double* x, double* y) const {
+void BlockSparseMatrix::releaseValues() {
+    std::vector<double>().swap(values);
+    std::vector<float>().swap(singleValues);
+}
+
+void BlockSparseMatrix::storeSingle() {
+    if (!hasValues()) return;
+    singleValues.resize(values.size());
+    const long n = static_cast<long>(values.size());
 #pragma omp parallel for schedule(static)
-    for (long r = 0; r < rows; ++r) {
+    for (long i = 0; i < n; ++i) singleValues[i] = static_cast<float>(values[i]);
+    std::vector<double>().swap(values);
+}
+
+namespace {
+
+template <class T>
+void multRows(const BlockSparseMatrix& A, const T* values, const double* x, double* y) {
+#pragma omp parallel for schedule(static)
+    for (long r = 0; r < A.rows; ++r) {
         double acc[kBlock] = {};
-        for (long b = rowStart[r]; b < rowStart[r + 1]; ++b) {
-            const double* a = &values[kBlockSize * b];
-            const double* xc = x + kBlock * cols[b];
+        for (long b = A.rowStart[r]; b < A.rowStart[r + 1]; ++b) {
+            const T* a = &values[kBlockSize * b];
+            const double* xc = x + kBlock * A.cols[b];
             for (int v = 0; v < kBlock; ++v) {
                 double s = 0;
-                for (int w = 0; w < kBlock; ++w) s += a[kBlock * v + w] * xc[w];
+                for (int w = 0; w < kBlock; ++w) s += static_cast<double>(a[kBlock * v + w]) * xc[w];
                 acc[v] += s;
             }
         }
         for (int v = 0; v < kBlock; ++v) y[kBlock * r + v] = acc[v];
+    }
+}
+
+}  // namespace
+
+void BlockSparseMatrix::mult(const double* x, double* y) const {
+    if (!hasValues() && single()) {
+        multRows(*this, singleValues.data(), x, y);
+    } else {
+        multRows(*this, values.data(), x, y);
     }
 }
 

@@ -20,9 +20,22 @@ struct BlockSparseMatrix {
     long find(long row, long col) const;
     double* block(long index) { return &values[kBlockSize * index]; }
     const double* block(long index) const { return &values[kBlockSize * index]; }
-    void setZero();
+    std::vector<float> singleValues;  // the values rounded to float (storeSingle), else empty
 
-    /// y = A x (x, y: 5 * rows; y is overwritten). OpenMP over rows.
+    /// Zeroes the values (allocating them again after releaseValues() or storeSingle()).
+    void setZero();
+    /// Frees the values, keeping the pattern (setZero() allocates them again): a matrix needed
+    /// only until its preconditioner is factored need not stay beside the Krylov basis.
+    void releaseValues();
+    bool hasValues() const { return values.size() == kBlockSize * cols.size(); }
+    /// Keeps the values only rounded to single precision (half the memory; double sums in mult()):
+    /// a matrix needed after its preconditioner is factored only for products. setZero() returns
+    /// to double storage. Nothing to do without values.
+    void storeSingle();
+    bool single() const { return singleValues.size() == kBlockSize * cols.size() && !cols.empty(); }
+
+    /// y = A x (x, y: 5 * rows; y is overwritten). OpenMP over rows. With the single-precision
+    /// values after storeSingle().
     void mult(const double* x, double* y) const;
     /// y = A^T x (for the adjoint). Parallel over rows once prepareTranspose() has run (the
     /// same sums in the same order as the sequential product, so bitwise the same result).

@@ -115,7 +115,8 @@ void CflLaw::rejected(double cfl, double R, double R0) {
 StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,
                        const NewtonOptions& n)
     : fm_(fm), metrics_(metrics), n_(n), approx_(o), P_(jacobianPattern(fm, 1)),
-      jp_(fm, metrics, o, n.products), rhs_(kVars * static_cast<std::size_t>(fm.nodeCount)) {
+      jp_(fm, metrics, o, n.products), rhs_(kVars * static_cast<std::size_t>(fm.nodeCount)),
+      lowMemory_(fm.nodeCount >= n.lowMemoryNodes) {
     approx_.lumpedDissipation = true;
     approx_.freezeCoefficients = true;
     if (n.preconditionerParts > 1) {
@@ -129,13 +130,30 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
     if (local_ && !local_->empty()) {
         for (std::size_t i = 0; i < d_.size(); ++i) d_[i] /= (*local_)[i];
     }
-    assembleApproximateJacobian(fm_, metrics_, q, approx_, P_);
-    P_.addDiagonal(d_.data());
+    // The last step's Krylov basis is not needed while the matrix is assembled and factored.
+    if (lowMemory_) krylov_.release();
     q_ = q;
     r_ = r;
+    assembleMatrix();
     exact_ = exact;
     factored_ = false;
     productsReady_ = false;
+}
+
+void StepSystem::assembleMatrix() {
+    assembleApproximateJacobian(fm_, metrics_, q_, approx_, P_);
+    P_.addDiagonal(d_.data());
+}
+
+void StepSystem::useApproximate() {
+    exact_ = false;
+    // The same state, CFL and lumping as the last assemble(): the same matrix, whose factors the
+    // ILU still holds. The failed step's basis first makes room for it.
+    if (!P_.hasValues() && !P_.single()) {
+        krylov_.release();
+        assembleMatrix();
+        P_.storeSingle();
+    }
 }
 
 void StepSystem::setResidualOptions(const ResidualOptions& o) {
@@ -156,6 +174,15 @@ bool StepSystem::factor(std::string& why) {
         return false;
     }
     factored_ = true;
+    // An exact step's products do not use the approximate Jacobian: free it for the basis. An
+    // approximate step's use it rounded to float.
+    if (lowMemory_) {
+        if (exact_) {
+            P_.releaseValues();
+        } else {
+            P_.storeSingle();
+        }
+    }
     return true;
 }
 

@@ -50,6 +50,14 @@ struct NewtonOptions {
                                        // but a different path on hard designs (one random design
                                        // of the robustness suite stalls with it); opt-in for
                                        // grids where memory is the limit (docs/performance.md)
+    int lowMemoryNodes = 300000;       // from this many grid nodes on, the approximate Jacobian
+                                       // is kept after its ILU is factored only in float and only
+                                       // for approximate steps (exact steps free it), and every
+                                       // step frees the Krylov basis before the next assembly, so
+                                       // the matrix (1.3 GB on the 903k paper grid) and the basis
+                                       // (1.1-2.2 GB) are not held at full size together. Exact
+                                       // steps are bitwise unchanged, approximate ones multiply
+                                       // with the rounded matrix (0: always; docs/performance.md)
     ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
                                        // products: a real residual's difference (3.5x cheaper than
                                        // a complex one; Jacobian.h) or complex step
@@ -196,8 +204,9 @@ public:
     /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled).
     GmresReport solve(const double* r, double* dq);
     bool exact() const { return exact_; }
-    /// The approximate Jacobian as the system matrix from now on (same preconditioner).
-    void useApproximate() { exact_ = false; }
+    /// The approximate Jacobian as the system matrix from now on (same preconditioner; assembled
+    /// again if a low-memory exact step freed it).
+    void useApproximate();
     /// The residual solved from now on (the switch continuation's hand-over): the exact products
     /// and the preconditioner's approximate Jacobian follow it (its lumping is kept); assemble
     /// again before solving. No reallocation.
@@ -221,6 +230,9 @@ private:
     bool exact_ = false;
     bool factored_ = false;       // ilu_ holds the factors of the last assemble()
     bool productsReady_ = false;  // jp_ holds the state of the last assemble()
+    bool lowMemory_ = false;      // NewtonOptions::lowMemoryNodes reached
+
+    void assembleMatrix();        // P_ = the approximate Jacobian at q_ + diag(d_)
 };
 
 /// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream

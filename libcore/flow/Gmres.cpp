@@ -206,6 +206,12 @@ void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     while (static_cast<int>(single_.size()) < singleVectors) single_.emplace_back(static_cast<std::size_t>(n));
 }
 
+void GmresWorkspace::release() {
+    std::vector<std::vector<double>>().swap(basis_);
+    std::vector<std::vector<float>>().swap(single_);
+    n_ = 0;
+}
+
 namespace {
 
 // Basis vector i of type B: the workspace's double vector i, or its float vector i.

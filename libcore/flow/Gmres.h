@@ -51,6 +51,8 @@ public:
     long size() const { return n_; }
     int vectors() const { return static_cast<int>(basis_.size()); }
     int singleVectors() const { return static_cast<int>(single_.size()); }
+    /// Frees every vector (the next reserve() allocates them again).
+    void release();
 
 private:
     long n_ = 0;

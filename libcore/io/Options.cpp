@@ -242,6 +242,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                             "store a Newton step's Krylov basis in single precision (half its memory: 5 x 4 bytes per "
                             "grid node and vector; products, sums and restarts stay double): for grids where memory "
                             "is the limit"));
+        o.push_back(integer<FlowCase>("low_memory_nodes", 0, 2000000000,
+                                      [](FlowCase& c) -> int& { return c.newton.lowMemoryNodes; },
+                                      "from this many grid nodes on, the approximate Jacobian is kept after its ILU is "
+                                      "factored only in float and only for approximate steps, and the Krylov basis is "
+                                      "freed between steps, so the two are never held at full size together (0: always)"));
         o.push_back(real<FlowCase>("lumping", "", 0, false, 1000, false,
                                    [](FlowCase& c) -> double& { return c.dissipation.lumping; },
                                    "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "

@@ -33,6 +33,20 @@ FlowReport solve(const testing::FlowCase& c, const ResidualOptions& o, std::vect
     });
 }
 
+// Settings under which exact steps fail and hand over to approximate ones on the coarse
+// half-sphere at Mach 0.75 (GMRES cut to 15 iterations per step).
+NewtonOptions failingExactSteps() {
+    NewtonOptions n;
+    n.gmresRestart = 15;
+    n.gmresMaxIterations = 15;
+    n.gmresDeflation = 0;
+    n.cflGrowth = 2.5;
+    n.maxIterations = 50;
+    n.recoveryIterations = 10;
+    n.switchContinuation = 0;  // the kinked switch throughout: the smoothed one avoids the failures
+    return n;
+}
+
 TEST(FlowSolver, DisturbedFlowInACurvedBoxReturnsToTheFreeStream) {
     // Farfield all round (symmetry planes at y = 0, 1): the only steady state is the free
     // stream, which the discretization preserves exactly on this curved grid.
@@ -145,14 +159,7 @@ TEST(FlowSolver, ExactStepsThatDoNotRecoverFromAFailureHandOverToApproximateOnes
     // test checks the rule, not convergence (this case does not converge either way).
     const testing::FlowCase& c = testing::halfSphere(0.3);
     const ResidualOptions o = freeStreamAt(0.75, 1.2);
-    NewtonOptions n;
-    n.gmresRestart = 15;
-    n.gmresMaxIterations = 15;
-    n.gmresDeflation = 0;
-    n.cflGrowth = 2.5;
-    n.maxIterations = 50;
-    n.recoveryIterations = 10;
-    n.switchContinuation = 0;  // the kinked switch throughout: the smoothed one avoids the failures
+    NewtonOptions n = failingExactSteps();
     std::vector<double> q;
     const FlowReport rep = solve(c, o, q, n);
     std::printf("%s; approximate steps from iteration %d\n", rep.message.c_str(), rep.approximateFrom);
@@ -185,6 +192,58 @@ TEST(FlowSolver, ExactStepsThatDoNotRecoverFromAFailureHandOverToApproximateOnes
         if (never.history[i - 2].exact && !never.history[i - 1].exact && never.history[i].exact) ++exactAfterFailure;
     }
     EXPECT_GT(exactAfterFailure, 0);
+}
+
+TEST(FlowSolver, LowMemoryStepsFreeTheMatrixAndTheBasisAndRebuildThem) {
+    // NewtonOptions::lowMemoryNodes 0 frees the approximate Jacobian after each exact step's
+    // factorization (keeps it rounded to float for an approximate step's products) and the Krylov
+    // basis before each assembly; a failed exact step assembles the matrix again for its
+    // approximate retry. Same run as above (exact steps that fail, then approximate ones): the
+    // exact steps up to the first approximate one must be the same to the bit, the failed step's
+    // retry the same to float rounding.
+    const testing::FlowCase& c = testing::halfSphere(0.3);
+    const ResidualOptions o = freeStreamAt(0.75, 1.2);
+    NewtonOptions n = failingExactSteps();
+    n.maxIterations = 30;
+    n.exactBelow = 2;  // exact steps from the start, so the first approximate one is a retry
+    std::vector<double> q;
+    const FlowReport plain = solve(c, o, q, n);
+    n.lowMemoryNodes = 0;
+    std::vector<double> lean;
+    const FlowReport low = solve(c, o, lean, n);
+    ASSERT_GE(low.history.size(), 2u);
+    const auto& h = plain.history;
+    std::size_t retry = 0;
+    while (retry < h.size() && h[retry].exact) ++retry;
+    std::printf("%d iterations; the first approximate step (a failed exact step's retry): %zu\n", plain.iterations, retry + 1);
+    ASSERT_GT(retry, 0u) << "no exact step";
+    ASSERT_LT(retry, h.size()) << "no failed exact step: the rebuild is not tested";
+    ASSERT_GT(low.history.size(), retry);
+    for (std::size_t i = 0; i < retry; ++i) {
+        EXPECT_EQ(low.history[i].residual, h[i].residual) << "iteration " << i + 1;
+        EXPECT_EQ(low.history[i].linearIterations, h[i].linearIterations) << "iteration " << i + 1;
+    }
+    EXPECT_FALSE(low.history[retry].exact);
+    EXPECT_NEAR(low.history[retry].residual, h[retry].residual, 1e-4 * h[retry].residual);
+    std::printf("iteration %zu: residual %.6e, low memory %.6e\n", retry + 1, h[retry].residual, low.history[retry].residual);
+
+    // A converging case with approximate steps down to 1e-2: the same solution (the residual is
+    // the same; only the path differs).
+    const ResidualOptions half = freeStreamAt(0.5, 1.2);
+    std::vector<double> q0, q1;
+    NewtonOptions late;
+    late.exactBelow = 1e-2;
+    const FlowReport a = solve(c, half, q0, late);
+    late.lowMemoryNodes = 0;
+    const FlowReport b = solve(c, half, q1, late);
+    ASSERT_FALSE(a.history.front().exact);
+    ASSERT_TRUE(a.converged()) << a.message;
+    ASSERT_TRUE(b.converged()) << b.message;
+    double worst = 0;
+    for (std::size_t i = 0; i < q0.size(); ++i) worst = std::max(worst, std::abs(q0[i] - q1[i]));
+    std::printf("Mach 0.5: %d and %d iterations, states differ by %.3e at most\n", a.iterations, b.iterations, worst);
+    EXPECT_LT(worst, 1e-8);
+    EXPECT_LE(std::abs(a.iterations - b.iterations), 2);
 }
 
 TEST(FlowSolver, LocalCflKeepsOneStiffNodeFromHoldingTheWholeStep) {
