@@ -198,18 +198,29 @@ Eigen::MatrixXd harmonicRitzVectors(const Eigen::MatrixXd& Hbar, int m, int want
 
 void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     if (n != n_) {
-        basis_.clear();
-        single_.clear();
+        release();
         n_ = n;
+        stride_ = (static_cast<std::size_t>(n) + 15) / 16 * 16;
     }
-    while (static_cast<int>(basis_.size()) < vectors) basis_.emplace_back(static_cast<std::size_t>(n));
-    while (static_cast<int>(single_.size()) < singleVectors) single_.emplace_back(static_cast<std::size_t>(n));
+    // Freed before the new size is allocated, so the peak is the larger of the two.
+    if (vectors > vectors_) {
+        std::vector<double>().swap(basis_);
+        basis_.resize(stride_ * static_cast<std::size_t>(vectors));
+        vectors_ = vectors;
+    }
+    if (singleVectors > singleVectors_) {
+        std::vector<float>().swap(single_);
+        single_.resize(stride_ * static_cast<std::size_t>(singleVectors));
+        singleVectors_ = singleVectors;
+    }
 }
 
 void GmresWorkspace::release() {
-    std::vector<std::vector<double>>().swap(basis_);
-    std::vector<std::vector<float>>().swap(single_);
+    std::vector<double>().swap(basis_);
+    std::vector<float>().swap(single_);
     n_ = 0;
+    stride_ = 0;
+    vectors_ = singleVectors_ = 0;
 }
 
 namespace {

@@ -42,22 +42,29 @@ struct GmresReport {
 
 /// The Krylov basis and work vectors, kept between solves of the same size (a Newton iteration's
 /// GMRES on 98k nodes would otherwise allocate and clear 60 vectors of 491k values every time).
+/// Each precision's vectors are one allocation, so that release() gives the memory back to the
+/// system: freed one by one, the 18 MB float vectors of the 903k paper grid stayed in the heap
+/// (glibc raises its mmap threshold to the size of a freed block), and the next allocation of the
+/// approximate Jacobian came on top of them.
 class GmresWorkspace {
 public:
-    /// At least `vectors` double and `singleVectors` float vectors of length n.
+    /// At least `vectors` double and `singleVectors` float vectors of length n. Growing the count
+    /// or changing n allocates again: the vectors' contents are not kept.
     void reserve(long n, int vectors, int singleVectors = 0);
-    double* vector(int i) { return basis_[static_cast<std::size_t>(i)].data(); }
-    float* singleVector(int i) { return single_[static_cast<std::size_t>(i)].data(); }
+    double* vector(int i) { return basis_.data() + stride_ * static_cast<std::size_t>(i); }
+    float* singleVector(int i) { return single_.data() + stride_ * static_cast<std::size_t>(i); }
     long size() const { return n_; }
-    int vectors() const { return static_cast<int>(basis_.size()); }
-    int singleVectors() const { return static_cast<int>(single_.size()); }
+    int vectors() const { return vectors_; }
+    int singleVectors() const { return singleVectors_; }
     /// Frees every vector (the next reserve() allocates them again).
     void release();
 
 private:
     long n_ = 0;
-    std::vector<std::vector<double>> basis_;
-    std::vector<std::vector<float>> single_;
+    std::size_t stride_ = 0;  // n rounded up to 16 values: each vector starts 64-byte aligned
+    int vectors_ = 0, singleVectors_ = 0;
+    std::vector<double> basis_;
+    std::vector<float> single_;
 };
 
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner
