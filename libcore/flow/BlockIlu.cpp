@@ -109,9 +109,7 @@ void BlockIlu::analyze(const BlockSparseMatrix& A, int fill) {
             level[row[c]] = -1;
         }
     }
-    lu_ = makeBlockSparse(cols);
-    lu_.values.clear();
-    lu_.values.shrink_to_fit();
+    lu_ = makeBlockSparse(cols, false);
     values_.assign(single_ ? kBlockSize * static_cast<std::size_t>(lu_.blockCount()) : 0, 0.0f);
     valuesDouble_.assign(single_ ? 0 : kBlockSize * static_cast<std::size_t>(lu_.blockCount()), 0.0);
     source_.assign(lu_.blockCount(), -1);
@@ -120,23 +118,11 @@ void BlockIlu::analyze(const BlockSparseMatrix& A, int fill) {
             source_[lu_.find(position_[r], position_[A.cols[b]])] = b;
         }
     }
-    // The column structure for the transposed solve: for every row i, the blocks (j, i), j != i,
-    // in increasing j (a counting sort over the blocks in row order keeps j increasing).
-    colStart_.assign(n + 1, 0);
-    for (long b = 0; b < lu_.blockCount(); ++b) ++colStart_[lu_.cols[b] + 1];
-    for (long i = 0; i < n; ++i) colStart_[i + 1] += colStart_[i];
-    colBlocks_.resize(lu_.blockCount());
-    colRows_.resize(lu_.blockCount());
-    {
-        std::vector<long> next(colStart_.begin(), colStart_.end() - 1);
-        for (long r = 0; r < n; ++r) {
-            for (long b = lu_.rowStart[r]; b < lu_.rowStart[r + 1]; ++b) {
-                const long at = next[lu_.cols[b]]++;
-                colBlocks_[at] = b;
-                colRows_[at] = r;
-            }
-        }
-    }
+    // The column structure of the transposed solve is built by its first call (a forward solve
+    // does not need its 16 bytes per stored block: 200 MB on the 903k grid).
+    std::vector<long>().swap(colStart_);
+    std::vector<long>().swap(colBlocks_);
+    std::vector<long>().swap(colRows_);
     analyzedRows_ = n;
     analyzedBlocks_ = A.blockCount();
     fill_ = fill;
@@ -364,7 +350,29 @@ void BlockIlu::transposeBackwardRows(const V* vals, long first, long last, doubl
     }
 }
 
+void BlockIlu::buildColumns() const {
+    const long n = lu_.rows;
+    // For every row i, the blocks (j, i), j != i, in increasing j (a counting sort over the
+    // blocks in row order keeps j increasing).
+    colStart_.assign(n + 1, 0);
+    for (long b = 0; b < lu_.blockCount(); ++b) ++colStart_[lu_.cols[b] + 1];
+    for (long i = 0; i < n; ++i) colStart_[i + 1] += colStart_[i];
+    colBlocks_.resize(lu_.blockCount());
+    colRows_.resize(lu_.blockCount());
+    {
+        std::vector<long> next(colStart_.begin(), colStart_.end() - 1);
+        for (long r = 0; r < n; ++r) {
+            for (long b = lu_.rowStart[r]; b < lu_.rowStart[r + 1]; ++b) {
+                const long at = next[lu_.cols[b]]++;
+                colBlocks_[at] = b;
+                colRows_[at] = r;
+            }
+        }
+    }
+}
+
 void BlockIlu::solveTranspose(const double* b, double* x) const {
+    if (static_cast<long>(colStart_.size()) != lu_.rows + 1) buildColumns();
     // Mirrors solve(): the rows of part p meet only rows of part p (and the separator, which comes
     // last) in L and U, so U^T's forward sweep runs the parts in parallel and then the
     // separator; L^T's backward sweep the separator first, then the parts. The same arithmetic

@@ -51,7 +51,8 @@ public:
     void solve(const double* b, double* x) const;
     /// x = ((L U)^T)^-1 b: the transposed preconditioner (the adjoint's, for GMRES on J^T).
     /// Parallel over the parts like solve() (row-oriented sweeps over the factors' columns);
-    /// the same work vector as solve().
+    /// the same work vector as solve(). The first call after analyze() builds the factors' column
+    /// structure.
     void solveTranspose(const double* b, double* x) const;
     const std::string& message() const { return message_; }
     long storedBlocks() const { return lu_.blockCount(); }
@@ -81,9 +82,10 @@ private:
     std::vector<long> diag_;     // index of each row's diagonal block
     std::vector<double> dinv_;   // inverted diagonal blocks of U (double)
     std::vector<long> source_;   // for each block of lu_, the block of A it starts from (-1: fill)
-    std::vector<long> colStart_, colBlocks_, colRows_;  // lu_ by columns: for row i, the blocks
-                                 // (j, i) at colBlocks_[colStart_[i] .. colStart_[i+1]), j increasing
-                                 // (colRows_ = j), for the transposed solve
+    mutable std::vector<long> colStart_, colBlocks_, colRows_;  // lu_ by columns: for row i, the
+                                 // blocks (j, i) at colBlocks_[colStart_[i] .. colStart_[i+1]), j
+                                 // increasing (colRows_ = j); built by the first solveTranspose()
+    void buildColumns() const;
     long analyzedRows_ = -1, analyzedBlocks_ = -1;
     int fill_ = -1;
     std::string message_;

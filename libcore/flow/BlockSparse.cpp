@@ -146,7 +146,7 @@ void BlockSparseMatrix::addDiagonal(const double* d) {
     }
 }
 
-BlockSparseMatrix makeBlockSparse(const std::vector<std::vector<long>>& columns) {
+BlockSparseMatrix makeBlockSparse(const std::vector<std::vector<long>>& columns, bool values) {
     BlockSparseMatrix A;
     A.rows = static_cast<long>(columns.size());
     A.rowStart.assign(A.rows + 1, 0);
@@ -158,7 +158,7 @@ BlockSparseMatrix makeBlockSparse(const std::vector<std::vector<long>>& columns)
         A.cols.insert(A.cols.end(), row.begin(), row.end());
         A.rowStart[r + 1] = static_cast<long>(A.cols.size());
     }
-    A.values.assign(kBlockSize * A.cols.size(), 0.0);
+    if (values) A.values.assign(kBlockSize * A.cols.size(), 0.0);
     return A;
 }
 
