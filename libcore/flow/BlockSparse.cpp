@@ -58,7 +58,7 @@ void multRows(const BlockSparseMatrix& A, const T* values, const double* x, doub
 }  // namespace
 
 void BlockSparseMatrix::mult(const double* x, double* y) const {
-    if (!hasValues() && single()) {
+    if (single()) {  // storeSingle() freed the doubles
         multRows(*this, singleValues.data(), x, y);
     } else {
         multRows(*this, values.data(), x, y);

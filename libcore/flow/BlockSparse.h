@@ -14,13 +14,13 @@ struct BlockSparseMatrix {
     std::vector<long> rowStart;   // rows + 1
     std::vector<long> cols;       // block column of each stored block
     std::vector<double> values;   // kBlockSize per stored block
+    std::vector<float> singleValues;  // instead of values after storeSingle(), else empty
 
     long blockCount() const { return static_cast<long>(cols.size()); }
     /// Index of block (row, col) or -1 (binary search in the row).
     long find(long row, long col) const;
     double* block(long index) { return &values[kBlockSize * index]; }
     const double* block(long index) const { return &values[kBlockSize * index]; }
-    std::vector<float> singleValues;  // the values rounded to float (storeSingle), else empty
 
     /// Zeroes the values (allocating them again after releaseValues() or storeSingle()).
     void setZero();
