@@ -11,6 +11,7 @@ packages=(
   libopenblas0-openmp  # CHOLMOD (mesh movement fallback) is 4x slower on the reference BLAS
   xvfb xauth libgl1-mesa-dri
   libqt6svg6  # the desktop application's SVG icons (Qt's SVG icon engine, at run time only)
+  clang-14 libomp-14-dev  # the ThreadSanitizer build (LLVM's OpenMP runtime and its Archer tool)
 )
 missing=()
 for p in "${packages[@]}"; do

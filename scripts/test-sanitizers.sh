@@ -6,9 +6,18 @@
 # or UBSan report fails the test (abort_on_error, halt_on_error in the preset). The rest of the
 # suite (flow, adjoint, study, CLI, GUI) under ASan is `ctest --preset asan` on a full asan
 # build: about 6x the release time, longer than CI allows (docs/reliability.md has its record).
+# Then ThreadSanitizer (the `tsan` preset: clang, OpenMP through libomp, followed by the Archer
+# tool) on the code that runs threads: the OpenMP linear algebra (test_threads: block CG, block
+# ILU in parts, block-sparse products, GMRES) on 2 threads, and the GUI's job runner
+# (test_job_runner: worker threads, progress, cancellation). Any race report fails the test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 targets=(test_nurbs test_geometry test_ffd test_mesh replay_plot3d)
 cmake --preset asan > /dev/null
 cmake --build --preset asan --target "${targets[@]}" -j"$(nproc)"
 ctest --preset asan -L "^(test_(nurbs|geometry|ffd|mesh)|replay_plot3d)$" -j2 --timeout 900
+
+tsan_targets=(test_threads test_job_runner)
+cmake --preset tsan > /dev/null
+cmake --build --preset tsan --target "${tsan_targets[@]}" -j"$(nproc)"
+OMP_NUM_THREADS=2 ctest --preset tsan -L "^(test_threads|test_job_runner)$" -j1 --timeout 900
