@@ -198,7 +198,7 @@ FlowPanel::FlowPanel(QWidget* parent) : QWidget(parent) {
         box->setChecked(on);
         partRow->addWidget(box, static_cast<int>(parts_.size()) / 2, static_cast<int>(parts_.size()) % 2);
         parts_.push_back({static_cast<int>(part), box});
-        connect(box, &QCheckBox::toggled, this, [this, part](bool shown) { emit partToggled(part, shown); });
+        connect(box, &QCheckBox::toggled, this, [this, toggledPart = part](bool shown) { emit partToggled(toggledPart, shown); });
     }
     dform->addRow(tr("Show"), partRow);
     auto* sliceRow = new QHBoxLayout;

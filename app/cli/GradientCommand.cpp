@@ -223,9 +223,11 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
                                                                       {ffd::VariableKind::SectionScale, "section scalings"},
                                                                       {ffd::VariableKind::Taper, "tapers"},
                                                                       {ffd::VariableKind::PointCoordinate, "point coordinates"}};
-            for (const auto& [kind, label] : kinds) {
+            for (const auto& group : kinds) {
+                // (Not a structured binding: clang 14, the sanitizer build's compiler, cannot capture one.)
+                const ffd::VariableKind kind = group.first;
                 std::vector<double> z = signs([&](std::size_t i) { return vars[i].kind == kind; });
-                if (std::any_of(z.begin(), z.end(), [](double x) { return x != 0; })) checks.push_back({label, z});
+                if (std::any_of(z.begin(), z.end(), [](double x) { return x != 0; })) checks.push_back({group.second, z});
             }
         }
         if (groups || n == 0) checks.push_back({"alpha", {}});

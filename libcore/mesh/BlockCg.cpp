@@ -23,15 +23,17 @@ inline void multiply(const double* a, const double* b, double* c) {
     }
 }
 
-// y -= a x
-inline void subtractAx(const double* a, const double* x, double* y) {
+// y -= a x (a in double, or in float for the stored factor; sums in double)
+template <class T>
+inline void subtractAx(const T* a, const double* x, double* y) {
     y[0] -= a[0] * x[0] + a[1] * x[1] + a[2] * x[2];
     y[1] -= a[3] * x[0] + a[4] * x[1] + a[5] * x[2];
     y[2] -= a[6] * x[0] + a[7] * x[1] + a[8] * x[2];
 }
 
 // y -= a^T x
-inline void subtractAtx(const double* a, const double* x, double* y) {
+template <class T>
+inline void subtractAtx(const T* a, const double* x, double* y) {
     y[0] -= a[0] * x[0] + a[3] * x[1] + a[6] * x[2];
     y[1] -= a[1] * x[0] + a[4] * x[1] + a[7] * x[2];
     y[2] -= a[2] * x[0] + a[5] * x[1] + a[8] * x[2];
@@ -114,13 +116,98 @@ Block3Matrix makeBlock3Pattern(std::vector<std::vector<int>> columns) {
     return A;
 }
 
-bool BlockIncompleteCholesky::compute(const Block3Matrix& A) {
-    rows_ = A.rows;
-    lowerStart_.assign(rows_ + 1, 0);
+void BlockIncompleteCholesky::order(const Block3Matrix& A) {
+    const int n = A.rows;
+    // Breadth-first levels from a peripheral row (the last row reached from row 0, then again
+    // from there); a further component continues the numbering one level past the deepest, so
+    // no level touches two components.
+    std::vector<int> level(n, -1), queue;
+    queue.reserve(n);
+    auto sweep = [&](int start, int first) {
+        level[start] = first;
+        queue.assign(1, start);
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const int v = queue[h];
+            for (int t = A.rowStart[v]; t < A.rowStart[v + 1]; ++t) {
+                const int w = A.cols[t];
+                if (level[w] < 0) {
+                    level[w] = level[v] + 1;
+                    queue.push_back(w);
+                }
+            }
+        }
+        return queue.back();
+    };
+    int deepest = -1;
+    for (int v = 0; v < n; ++v) {
+        if (level[v] >= 0) continue;
+        const std::vector<int> before = level;
+        const int far = sweep(v, 0);
+        level = before;  // the second sweep, from the far end, gives the levels
+        sweep(far, deepest < 0 ? 0 : deepest + 2);
+        for (int w : queue) deepest = std::max(deepest, level[w]);
+    }
+    // The separating level that balances the parts best (none for tiny matrices).
+    int split = -1;
+    if (n >= 64) {
+        std::vector<int> count(std::max(0, deepest + 1), 0);
+        for (int v = 0; v < n; ++v) ++count[level[v]];
+        long below = 0, bestImbalance = n;
+        for (int l = 0; l <= deepest; ++l) {
+            const long above = n - below - count[l];
+            const long imbalance = std::abs(above - below) + count[l];
+            if (below > 0 && above > 0 && imbalance < bestImbalance) {
+                bestImbalance = imbalance;
+                split = l;
+            }
+            below += count[l];
+        }
+    }
+    perm_.clear();
+    perm_.reserve(n);
+    for (int v = 0; v < n; ++v)
+        if (split < 0 || level[v] < split) perm_.push_back(v);
+    partEnd_[0] = static_cast<int>(perm_.size());
+    for (int v = 0; v < n; ++v)
+        if (split >= 0 && level[v] > split) perm_.push_back(v);
+    partEnd_[1] = static_cast<int>(perm_.size());
+    if (split >= 0) {
+        std::stable_sort(perm_.begin(), perm_.begin() + partEnd_[0], [&](int a, int b) { return level[a] < level[b]; });
+        std::stable_sort(perm_.begin() + partEnd_[0], perm_.end(), [&](int a, int b) { return level[a] > level[b]; });
+    }
+    for (int v = 0; v < n; ++v)
+        if (split >= 0 && level[v] == split) perm_.push_back(v);
+    // The lower pattern in the new numbering, each block's source in A.
+    std::vector<int> inverse(n);
+    for (int i = 0; i < n; ++i) inverse[perm_[i]] = i;
+    lowerStart_.assign(n + 1, 0);
     lowerCols_.clear();
-    for (int r = 0; r < rows_; ++r) {
-        for (int t = A.rowStart[r]; t < A.rowStart[r + 1] && A.cols[t] < r; ++t) lowerCols_.push_back(A.cols[t]);
-        lowerStart_[r + 1] = static_cast<int>(lowerCols_.size());
+    lowerSource_.clear();
+    diagSource_.assign(n, -1);
+    std::vector<std::pair<int, int>> row;
+    for (int i = 0; i < n; ++i) {
+        const int v = perm_[i];
+        row.clear();
+        for (int t = A.rowStart[v]; t < A.rowStart[v + 1]; ++t) {
+            const int j = inverse[A.cols[t]];
+            if (j < i) row.emplace_back(j, t);
+            if (j == i) diagSource_[i] = t;
+        }
+        std::sort(row.begin(), row.end());
+        for (const auto& [j, t] : row) {
+            lowerCols_.push_back(j);
+            lowerSource_.push_back(t);
+        }
+        lowerStart_[i + 1] = static_cast<int>(lowerCols_.size());
+    }
+    patternStart_ = A.rowStart;
+    patternCols_ = A.cols;
+}
+
+bool BlockIncompleteCholesky::compute(const Block3Matrix& A) {
+    if (A.rows != rows_ || A.rowStart != patternStart_ || A.cols != patternCols_) {
+        rows_ = A.rows;
+        order(A);
     }
     // Overwritten before they are read; resize keeps the buffers of an earlier factorization.
     lower_.resize(9 * lowerCols_.size());
@@ -129,6 +216,10 @@ bool BlockIncompleteCholesky::compute(const Block3Matrix& A) {
     for (int attempt = 0; attempt <= 12; ++attempt) {
         if (factor(A, sigma)) {
             shift_ = sigma;
+            // The solves read the factor rounded to float: half the memory traffic of the
+            // triangular solves, which are most of a CG iteration; the vectors and sums stay double.
+            lowerSingle_.assign(lower_.begin(), lower_.end());
+            pivotSingle_.assign(pivotInv_.begin(), pivotInv_.end());
             return true;
         }
         sigma = sigma == 0 ? 1e-3 : 2 * sigma;
@@ -136,15 +227,14 @@ bool BlockIncompleteCholesky::compute(const Block3Matrix& A) {
     return false;
 }
 
-bool BlockIncompleteCholesky::factor(const Block3Matrix& A, double sigma) {
-    std::vector<int> position(rows_, -1);  // block column -> its slot in the current row of L
-    for (int i = 0; i < rows_; ++i) {
+bool BlockIncompleteCholesky::factorRows(const Block3Matrix& A, double sigma, int begin, int end,
+                                         std::vector<int>& position) {
+    for (int i = begin; i < end; ++i) {
         const int b0 = lowerStart_[i], b1 = lowerStart_[i + 1];
-        const int a0 = A.rowStart[i];
         // W_ik = L_ik D_k = A_ik - sum_{j < k} W_ij L_kj^T over j in both rows' patterns.
         for (int t = b0; t < b1; ++t) {
             position[lowerCols_[t]] = t;
-            std::copy_n(&A.values[9 * static_cast<std::size_t>(a0 + t - b0)], 9, &lower_[9 * static_cast<std::size_t>(t)]);
+            std::copy_n(&A.values[9 * static_cast<std::size_t>(lowerSource_[t])], 9, &lower_[9 * static_cast<std::size_t>(t)]);
         }
         for (int t = b0; t < b1; ++t) {
             const int k = lowerCols_[t];
@@ -155,9 +245,8 @@ bool BlockIncompleteCholesky::factor(const Block3Matrix& A, double sigma) {
             }
         }
         // D_i = A_ii - sum_k W_ik L_ik^T, L_ik = W_ik D_k^{-1}.
-        const int diag = a0 + (b1 - b0);
         double d[9];
-        std::copy_n(&A.values[9 * static_cast<std::size_t>(diag)], 9, d);
+        std::copy_n(&A.values[9 * static_cast<std::size_t>(diagSource_[i])], 9, d);
         const double scale = std::max({std::abs(d[0]), std::abs(d[4]), std::abs(d[8])});
         for (int c = 0; c < 3; ++c) d[4 * c] *= 1 + sigma;
         for (int t = b0; t < b1; ++t) {
@@ -173,29 +262,59 @@ bool BlockIncompleteCholesky::factor(const Block3Matrix& A, double sigma) {
     return true;
 }
 
+bool BlockIncompleteCholesky::factor(const Block3Matrix& A, double sigma) {
+    // The parts' rows reach only their own part's columns, so they share `position` without
+    // touching the same entries.
+    positionWork_.assign(rows_, -1);
+    bool ok[2] = {true, true};
+#pragma omp parallel for schedule(static, 1)
+    for (int p = 0; p < 2; ++p) ok[p] = factorRows(A, sigma, p == 0 ? 0 : partEnd_[0], partEnd_[p], positionWork_);
+    return ok[0] && ok[1] && factorRows(A, sigma, partEnd_[1], rows_, positionWork_);
+}
+
 void BlockIncompleteCholesky::solve(const double* r, double* z) const {
     const std::size_t n = 3 * static_cast<std::size_t>(rows_);
-    std::vector<double>& y = work_;
-    y.assign(r, r + n);
-    // (I + L) y = r, then z = D^{-1} y.
-    for (int i = 0; i < rows_; ++i) {
-        double* yi = &y[3 * static_cast<std::size_t>(i)];
-        for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
-            subtractAx(&lower_[9 * static_cast<std::size_t>(t)], &y[3 * static_cast<std::size_t>(lowerCols_[t])], yi);
+    work_.resize(2 * n);
+    double* y = work_.data();
+    double* x = y + n;
+    // (I + L) y = P r, then x = D^{-1} y: the parts at once, then the separator.
+    auto forward = [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            double* yi = y + 3 * static_cast<std::size_t>(i);
+            const double* ri = r + 3 * static_cast<std::size_t>(perm_[i]);
+            yi[0] = ri[0];
+            yi[1] = ri[1];
+            yi[2] = ri[2];
+            for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
+                subtractAx(&lowerSingle_[9 * static_cast<std::size_t>(t)], y + 3 * static_cast<std::size_t>(lowerCols_[t]), yi);
+            }
+            const float* p = &pivotSingle_[9 * static_cast<std::size_t>(i)];
+            double* xi = x + 3 * static_cast<std::size_t>(i);
+            xi[0] = p[0] * yi[0] + p[1] * yi[1] + p[2] * yi[2];
+            xi[1] = p[3] * yi[0] + p[4] * yi[1] + p[5] * yi[2];
+            xi[2] = p[6] * yi[0] + p[7] * yi[1] + p[8] * yi[2];
         }
-        const double* p = &pivotInv_[9 * static_cast<std::size_t>(i)];
-        double* zi = z + 3 * static_cast<std::size_t>(i);
-        zi[0] = p[0] * yi[0] + p[1] * yi[1] + p[2] * yi[2];
-        zi[1] = p[3] * yi[0] + p[4] * yi[1] + p[5] * yi[2];
-        zi[2] = p[6] * yi[0] + p[7] * yi[1] + p[8] * yi[2];
-    }
-    // (I + L)^T x = z in place, by columns: x_i is final once the rows below have passed.
-    for (int i = rows_ - 1; i >= 0; --i) {
-        const double* xi = z + 3 * static_cast<std::size_t>(i);
-        for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
-            subtractAtx(&lower_[9 * static_cast<std::size_t>(t)], xi, z + 3 * static_cast<std::size_t>(lowerCols_[t]));
+    };
+    // (I + L)^T x = D^{-1} y in place, by columns (x_i is final once the rows below have passed),
+    // then z = P^T x: the separator first, then the parts at once.
+    auto backward = [&](int begin, int end) {
+        for (int i = end - 1; i >= begin; --i) {
+            const double* xi = x + 3 * static_cast<std::size_t>(i);
+            for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
+                subtractAtx(&lowerSingle_[9 * static_cast<std::size_t>(t)], xi, x + 3 * static_cast<std::size_t>(lowerCols_[t]));
+            }
+            double* zi = z + 3 * static_cast<std::size_t>(perm_[i]);
+            zi[0] = xi[0];
+            zi[1] = xi[1];
+            zi[2] = xi[2];
         }
-    }
+    };
+#pragma omp parallel for schedule(static, 1)
+    for (int p = 0; p < 2; ++p) forward(p == 0 ? 0 : partEnd_[0], partEnd_[p]);
+    forward(partEnd_[1], rows_);
+    backward(partEnd_[1], rows_);
+#pragma omp parallel for schedule(static, 1)
+    for (int p = 0; p < 2; ++p) backward(p == 0 ? 0 : partEnd_[0], partEnd_[p]);
 }
 
 CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky& M, const std::vector<double>& b,

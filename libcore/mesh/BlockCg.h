@@ -9,6 +9,7 @@
 // Why not Eigen's scalar IncompleteCholesky: on the paper-size control grid (13,546 nodes) its
 // factorization (linked lists, diagonal scaling, re-factoring with doubled shifts) took a third
 // of the move, and the scalar pattern carries 9 column indices where the block pattern carries 1.
+#include <array>
 #include <vector>
 
 namespace aero::mesh {
@@ -30,28 +31,44 @@ struct Block3Matrix {
 /// allowed; the diagonal is added). The pattern must be symmetric.
 Block3Matrix makeBlock3Pattern(std::vector<std::vector<int>> columns);
 
-/// Incomplete block Cholesky without fill: A ~ (I + L) D (I + L)^T with L strictly block lower
-/// on A's lower pattern and D block diagonal. A pivot block that is not positive definite (the
-/// incomplete factorization can break down on distorted cells) restarts the factorization with
-/// the diagonal blocks shifted by sigma times their diagonal, sigma = 1e-3 doubling, at most 12
-/// times.
+/// Incomplete block Cholesky without fill: P A P^T ~ (I + L) D (I + L)^T with L strictly block
+/// lower on the permuted lower pattern and D block diagonal. The ordering P splits the matrix
+/// graph in two parts that share no entry and a separator between them (a breadth-first level
+/// set from a peripheral row, chosen to balance the parts), separator last: the factorization and
+/// both triangular solves then run the two parts at once and the separator after (before, going
+/// back). Each part runs in breadth-first level order towards the separator (rows of one level
+/// in A's order), so a chain has no fill. The arithmetic does not depend on the thread count.
+/// A pivot block that is not positive definite (the incomplete factorization can break down on
+/// distorted cells) restarts the factorization with the diagonal blocks shifted by sigma times
+/// their diagonal, sigma = 1e-3 doubling, at most 12 times.
 class BlockIncompleteCholesky {
 public:
-    /// False when it broke down even with the largest shift.
+    /// False when it broke down even with the largest shift. The ordering is kept while A's
+    /// pattern stays the same (the move's increments).
     bool compute(const Block3Matrix& A);
-    /// z = M^{-1} r (3 * rows values each). Uses a work buffer of the object: one solve at a
+    /// z = M^{-1} r (3 * rows values each). Uses work buffers of the object: one solve at a
     /// time per object.
     void solve(const double* r, double* z) const;
     double shift() const { return shift_; }
+    /// Rows in the first part, the second part and the separator.
+    std::array<int, 3> partSizes() const { return {partEnd_[0], partEnd_[1] - partEnd_[0], rows_ - partEnd_[1]}; }
 
 private:
+    void order(const Block3Matrix& A);
+    bool factorRows(const Block3Matrix& A, double sigma, int begin, int end, std::vector<int>& position);
     bool factor(const Block3Matrix& A, double sigma);
     int rows_ = 0;
-    std::vector<int> lowerStart_, lowerCols_;
+    std::vector<int> patternStart_, patternCols_;  // A's pattern the ordering was made for
+    std::vector<int> perm_;                        // new row -> A's row
+    std::array<int, 2> partEnd_{0, 0};             // [0, e0) part 1, [e0, e1) part 2, [e1, rows) separator
+    std::vector<int> lowerStart_, lowerCols_;      // new numbering
+    std::vector<int> lowerSource_, diagSource_;    // A's block of each L block and of each diagonal
     std::vector<double> lower_;     // L blocks, 9 each
     std::vector<double> pivotInv_;  // D^{-1} blocks, 9 each
+    std::vector<float> lowerSingle_, pivotSingle_;  // the same rounded to float, for the solves
     double shift_ = 0;
     mutable std::vector<double> work_;
+    mutable std::vector<int> positionWork_;
 };
 
 struct CgReport {
