@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds Release and runs every test (GUI tests under Xvfb), then the
-# geometry layers' tests under AddressSanitizer + UBSan (scripts/test-sanitizers.sh).
+# geometry layers' tests under AddressSanitizer + UBSan and the threaded kernels and job runner under
+# ThreadSanitizer (scripts/test-sanitizers.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh

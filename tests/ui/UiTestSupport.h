@@ -28,6 +28,22 @@ namespace aero::uitest {
 
 inline const QString kScreenshotDir = QStringLiteral(AEROFORM_UI_SCREENSHOT_DIR);
 
+// How much slower the code runs in this build: 1 in release and debug; 10 under ThreadSanitizer
+// or AddressSanitizer, whose instrumentation slows every memory access 5-15x. The GUI's frame-time
+// budgets are multiplied by it: they measure the product's responsiveness, which an instrumented
+// build does not have (the sanitizer runs look for races and memory errors, not for speed).
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
+constexpr double kInstrumentationSlowdown = 10;
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer) || __has_feature(address_sanitizer)
+constexpr double kInstrumentationSlowdown = 10;
+#else
+constexpr double kInstrumentationSlowdown = 1;
+#endif
+#else
+constexpr double kInstrumentationSlowdown = 1;
+#endif
+
 struct PixelStats {
     double differingShare = 0;  // share of pixels that differ from the reference
     double meanLuma = 0;        // over the differing pixels
