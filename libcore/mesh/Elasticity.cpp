@@ -16,6 +16,10 @@
 #include "common/Scalar.h"
 #include "mesh/BlockCg.h"
 
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
 namespace aero::mesh {
 
 namespace {
@@ -487,13 +491,18 @@ FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::
         total += vol;
     }
     s.meanVolume = total / std::max(1L, cells);
-    // Element matrices in parallel, then one scatter in cell order, chunk by chunk (a chunk's
-    // matrices stay in cache, and the paper-size grid does not hold 51 MB of them at once).
+    // Element matrices in parallel, then their scatter, chunk by chunk (a chunk's matrices stay in
+    // cache, and the paper-size grid does not hold 51 MB of them at once). The scatter is split by
+    // block rows: each thread adds the chunk's contributions to its own range of rows, cell by
+    // cell, so every entry is summed in cell order whatever the thread count (the same bits on 1
+    // or 2 threads, as the solves).
     constexpr long kChunk = 512;
     L.elements.resize(static_cast<std::size_t>(std::min(cells, kChunk)) * 576);
-    std::fill(L.A.values.begin(), L.A.values.end(), 0.0);
     L.rhs.assign(L.size(), 0.0);
     double* values = L.A.values.data();
+    const long valueCount = static_cast<long>(L.A.values.size());
+#pragma omp parallel for schedule(static)
+    for (long v = 0; v < valueCount; ++v) values[v] = 0.0;
     for (long c0 = 0; c0 < cells; c0 += kChunk) {
         const long c1 = std::min(cells, c0 + kChunk);
 #pragma omp parallel for schedule(static)
@@ -502,24 +511,35 @@ FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::
             corners(c, x);
             hexStiffness<double>(x, cellModulus(x, s.meanVolume, o), o.poisson, &L.elements[576 * static_cast<std::size_t>(c - c0)]);
         }
-        for (long c = c0; c < c1; ++c) {
-            const int* cn = &L.cells.nodes[8 * c];
-            const double* K = &L.elements[576 * static_cast<std::size_t>(c - c0)];
-            const int* slot = &L.slot[64 * static_cast<std::size_t>(c)];
-            for (int a = 0; a < 8; ++a) {
-                if (L.blockRow[cn[a]] < 0) continue;
-                for (int ra = 0; ra < 3; ++ra) {
-                    const int fr = L.freeIndex[3 * cn[a] + ra];
-                    if (fr < 0) continue;
-                    const double* Krow = K + 24 * (3 * a + ra);
-                    for (int b = 0; b < 8; ++b) {
-                        double* block = slot[8 * a + b] >= 0 ? values + 9 * static_cast<std::size_t>(slot[8 * a + b]) + 3 * ra : nullptr;
-                        for (int cb = 0; cb < 3; ++cb) {
-                            const int gc = 3 * cn[b] + cb;
-                            if (L.constrained[gc]) {
-                                L.rhs[fr] -= Krow[3 * b + cb] * prescribed[gc];
-                            } else {
-                                block[cb] += Krow[3 * b + cb];
+#pragma omp parallel
+        {
+#if defined(_OPENMP)
+            const int parts = omp_get_num_threads(), part = omp_get_thread_num();
+#else
+            const int parts = 1, part = 0;
+#endif
+            const int rowBegin = static_cast<int>(static_cast<long>(L.blockRows) * part / parts);
+            const int rowEnd = static_cast<int>(static_cast<long>(L.blockRows) * (part + 1) / parts);
+            for (long c = c0; c < c1; ++c) {
+                const int* cn = &L.cells.nodes[8 * c];
+                const double* K = &L.elements[576 * static_cast<std::size_t>(c - c0)];
+                const int* slot = &L.slot[64 * static_cast<std::size_t>(c)];
+                for (int a = 0; a < 8; ++a) {
+                    const int row = L.blockRow[cn[a]];
+                    if (row < rowBegin || row >= rowEnd) continue;  // another thread's row, or none
+                    for (int ra = 0; ra < 3; ++ra) {
+                        const int fr = L.freeIndex[3 * cn[a] + ra];
+                        if (fr < 0) continue;
+                        const double* Krow = K + 24 * (3 * a + ra);
+                        for (int b = 0; b < 8; ++b) {
+                            double* block = slot[8 * a + b] >= 0 ? values + 9 * static_cast<std::size_t>(slot[8 * a + b]) + 3 * ra : nullptr;
+                            for (int cb = 0; cb < 3; ++cb) {
+                                const int gc = 3 * cn[b] + cb;
+                                if (L.constrained[gc]) {
+                                    L.rhs[fr] -= Krow[3 * b + cb] * prescribed[gc];
+                                } else {
+                                    block[cb] += Krow[3 * b + cb];
+                                }
                             }
                         }
                     }
