@@ -141,9 +141,8 @@ void BlockIncompleteCholesky::order(const Block3Matrix& A) {
     int deepest = -1;
     for (int v = 0; v < n; ++v) {
         if (level[v] >= 0) continue;
-        const std::vector<int> before = level;
         const int far = sweep(v, 0);
-        level = before;  // the second sweep, from the far end, gives the levels
+        for (int w : queue) level[w] = -1;  // the second sweep, from the far end, gives the levels
         sweep(far, deepest < 0 ? 0 : deepest + 2);
         for (int w : queue) deepest = std::max(deepest, level[w]);
     }
