@@ -74,6 +74,49 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
     DissipationFields<T> f;
     dissipationFields(q, metrics, gamma, freeze, f, o.gridAware && !lumped, o.switchSmoothing);
     const std::array<int, 3> dims = q.dims;
+    const long N = q.nodeCount();
+    // The rows m = 1..len-2 of the second-difference operator, once per node and direction: the
+    // weights (wm, -2, wp) on nodes m-1, m, m+1 ((1, -2, 1), or weighted by the spacing so that
+    // the row vanishes on linear fields), the fourth-difference coefficient at m, and the row
+    // applied to q. The fourth difference at a node sums three rows; computing each where it is
+    // used did every row three times. The same expressions, so the same bits.
+    std::array<std::vector<T>, 3> rowM, rowP, eps4, d2q;
+    if (!lumped) {
+        for (int d = 0; d < 3; ++d) {
+            const int len = dims[d];
+            if (len < 3) continue;
+            const long s = q.stride(d);
+            rowM[d].resize(N);
+            rowP[d].resize(N);
+            eps4[d].resize(N);
+            d2q[d].resize(kVars * static_cast<std::size_t>(N));
+#pragma omp parallel for schedule(static)
+            for (int k = 0; k < dims[2]; ++k) {
+                for (int j = 0; j < dims[1]; ++j) {
+                    for (int i = 0; i < dims[0]; ++i) {
+                        const int idx[3] = {i, j, k};
+                        if (idx[d] < 1 || idx[d] > len - 2) continue;
+                        const long m = q.node(i, j, k);
+                        T wm(1.0), wp(1.0);
+                        if (o.gridAware) {
+                            const std::vector<T>& h = f.spacing[d];
+                            const T hm = h[m - s] + h[m], hp = h[m] + h[m + s];
+                            wm = 2.0 * hp / (hm + hp);
+                            wp = 2.0 * hm / (hm + hp);
+                        }
+                        rowM[d][m] = wm;
+                        rowP[d][m] = wp;
+                        eps4[d][m] = eps4Node(f.lambda[d][m], f.nu[d][m], o);
+                        const T* qm = q.at(m - s);
+                        const T* q0 = q.at(m);
+                        const T* qp = q.at(m + s);
+                        T* out = &d2q[d][kVars * m];
+                        for (int v = 0; v < kVars; ++v) out[v] = wm * qm[v] - 2.0 * q0[v] + wp * qp[v];
+                    }
+                }
+            }
+        }
+    }
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < dims[2]; ++k) {
         for (int j = 0; j < dims[1]; ++j) {
@@ -106,30 +149,14 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
                     // Fourth difference: (Dt2^T E4 Dt2 q)_i over the rows m = i-1, i, i+1 in
                     // 1..len-2.
                     if (!lumped) {
-                        // Row m of the second-difference operator: (wm, -2, wp) on nodes m-1, m, m+1;
-                        // (1, -2, 1), or weighted by the spacing so that it vanishes on linear fields.
-                        auto row = [&](long nm, T& wm, T& wp) {
-                            if (!o.gridAware) {
-                                wm = T(1.0);
-                                wp = T(1.0);
-                                return;
-                            }
-                            const std::vector<T>& h = f.spacing[d];
-                            const T hm = h[nm - s] + h[nm], hp = h[nm] + h[nm + s];
-                            wm = 2.0 * hp / (hm + hp);
-                            wp = 2.0 * hm / (hm + hp);
-                        };
                         for (int m = a - 1; m <= a + 1; ++m) {
                             if (m < 1 || m > len - 2) continue;
                             const long nm = n + (m - a) * s;
-                            T wm, wp;
-                            row(nm, wm, wp);
-                            const T coef = m == a ? T(-2.0) : (m < a ? wp : wm);  // q_n's weight in row m
-                            const T w = coef * eps4Node(lam[nm], nu[nm], o);
-                            const T* qm = q.at(nm - s);
-                            const T* q0 = q.at(nm);
-                            const T* qp = q.at(nm + s);
-                            for (int v = 0; v < kVars; ++v) acc[v] += w * (wm * qm[v] - 2.0 * q0[v] + wp * qp[v]);
+                            // q_n's weight in row m
+                            const T coef = m == a ? T(-2.0) : (m < a ? rowP[d][nm] : rowM[d][nm]);
+                            const T w = coef * eps4[d][nm];
+                            const T* row = &d2q[d][kVars * nm];
+                            for (int v = 0; v < kVars; ++v) acc[v] += w * row[v];
                         }
                     }
                     const double hinv = 1.0 / sbpWeight(a, len);

@@ -11,6 +11,7 @@
 // eigencomponents found in one cycle are not lost at the restart (a restarted GMRES(60) on the
 // flow's adjoint systems needs about twice the iterations of an unrestarted one; docs/performance.md).
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace aero::flow {
@@ -45,14 +46,16 @@ struct GmresReport {
 /// Each precision's vectors are one allocation, so that release() gives the memory back to the
 /// system: freed one by one, the 18 MB float vectors of the 903k paper grid stayed in the heap
 /// (glibc raises its mmap threshold to the size of a freed block), and the next allocation of the
-/// approximate Jacobian came on top of them.
+/// approximate Jacobian came on top of them. The vectors are allocated without being written
+/// (not zero-filled): a large allocation is mapped pages that become resident only when a solve
+/// writes them, so a solve that converges in 15 iterations of a GMRES(60) holds 17 vectors, not 62.
 class GmresWorkspace {
 public:
     /// At least `vectors` double and `singleVectors` float vectors of length n. Growing the count
     /// or changing n allocates again: the vectors' contents are not kept.
     void reserve(long n, int vectors, int singleVectors = 0);
-    double* vector(int i) { return basis_.data() + stride_ * static_cast<std::size_t>(i); }
-    float* singleVector(int i) { return single_.data() + stride_ * static_cast<std::size_t>(i); }
+    double* vector(int i) { return basis_.get() + stride_ * static_cast<std::size_t>(i); }
+    float* singleVector(int i) { return single_.get() + stride_ * static_cast<std::size_t>(i); }
     long size() const { return n_; }
     int vectors() const { return vectors_; }
     int singleVectors() const { return singleVectors_; }
@@ -63,8 +66,8 @@ private:
     long n_ = 0;
     std::size_t stride_ = 0;  // n rounded up to 16 values: each vector starts 64-byte aligned
     int vectors_ = 0, singleVectors_ = 0;
-    std::vector<double> basis_;
-    std::vector<float> single_;
+    std::unique_ptr<double[]> basis_;  // vectors_ * stride_ values, uninitialized
+    std::unique_ptr<float[]> single_;  // singleVectors_ * stride_ values, uninitialized
 };
 
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner
