@@ -148,6 +148,7 @@ void BM_IluSolve(benchmark::State& st, const char* name) {
     const int before = omp_get_max_threads();
     omp_set_num_threads(static_cast<int>(st.range(0)));
     Preconditioner pc = preconditioner(g, static_cast<int>(st.range(1)));
+    pc.ilu.setPrecision(static_cast<flow::IluPrecision>(st.range(2)));
     if (!pc.ilu.factor(pc.P, flow::NewtonOptions{}.iluFill)) st.SkipWithError(pc.ilu.message().c_str());
     std::vector<double> b(flow::kVars * g.fm.nodeCount, 1.0), x(b.size());
     for (auto _ : st) {
@@ -156,7 +157,8 @@ void BM_IluSolve(benchmark::State& st, const char* name) {
     }
     omp_set_num_threads(before);
 }
-BENCHMARK_CAPTURE(BM_IluSolve, coarse, "coarse")->Args({1, 1})->Args({1, 2})->Args({2, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+// args: threads, parts, storage of the factors (IluPrecision: 0 double, 1 single, 2 bfloat16)
+BENCHMARK_CAPTURE(BM_IluSolve, coarse, "coarse")->Args({1, 1, 1})->Args({1, 2, 1})->Args({2, 2, 0})->Args({2, 2, 1})->Args({2, 2, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SolveHalfSphere(benchmark::State& st, const char* name) {
     const Grid& g = grid(name);

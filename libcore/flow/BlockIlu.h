@@ -2,10 +2,12 @@
 // Block incomplete LU factorization ILU(p) of a BlockSparseMatrix (level-of-fill p: p = 0 keeps
 // the matrix's pattern, p = 1, 2 add the fill of that level): L unit block lower, U block upper,
 // the diagonal blocks of U stored inverted. The factors are computed in double precision row by
-// row and stored in single precision (standard for preconditioners: GMRES iterations unchanged). The flow solver's preconditioner, built from the
+// row and stored in single precision or bfloat16 (IluPrecision). The flow solver's preconditioner, built from the
 // approximate Jacobian plus the time-step diagonal.
 // Note: on a structured 7-point pattern, ILU(0) is the same for every lexicographic ordering
 // (the lower neighbours are always i-1, j-1, k-1), so reordering axes does not help; fill does.
+#include <bit>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -30,16 +32,37 @@ struct IluOrdering {
 IluOrdering partitionOrdering(const BlockSparseMatrix& A, const std::vector<int>& partOfRow,
                               int parts);
 
+/// Storage of the factors' blocks. Each row is factored in double precision and stored rounded;
+/// the inverted diagonal blocks stay double. Single halves the memory and the triangular solves'
+/// traffic against Double with the same GMRES iterations (standard for preconditioners);
+/// Bfloat16 (8 significant bits, the exponent range of float) halves them again: the solves are
+/// bound by reading the factors (ILU(1): ~17 blocks per row), and a preconditioner's blocks need
+/// no more than 2-3 digits (docs/performance.md has the iteration counts).
+enum class IluPrecision { Double, Single, Bfloat16 };
+
+/// A bfloat16 value: the upper 16 bits of a float (round to nearest even when stored).
+struct Bf16 {
+    std::uint16_t bits = 0;
+    static Bf16 round(float f) {
+        std::uint32_t u = std::bit_cast<std::uint32_t>(f);
+        u += 0x7FFFu + ((u >> 16) & 1u);  // finite values only (the factors are checked)
+        return Bf16{static_cast<std::uint16_t>(u >> 16)};
+    }
+    operator float() const { return std::bit_cast<float>(static_cast<std::uint32_t>(bits) << 16); }
+};
+
 class BlockIlu {
 public:
     /// Factor and solve in this row order (empty ordering: the matrix's own order, sequential).
     /// Takes effect at the next factor().
     void setOrdering(IluOrdering ordering);
-    /// Store the factors in single (default) or double precision; takes effect at the next analyze.
-    void setSinglePrecision(bool single) {
-        single_ = single;
+    /// How the factors' L and U blocks are stored (default Single); takes effect at the next
+    /// analyze.
+    void setPrecision(IluPrecision precision) {
+        precision_ = precision;
         analyzedRows_ = -1;
     }
+    IluPrecision precision() const { return precision_; }
     /// Symbolic phase: the pattern of L + U for A's pattern and fill level p. Needed once per
     /// pattern; factor() calls it when the pattern or p changed.
     void analyze(const BlockSparseMatrix& A, int fill);
@@ -77,8 +100,18 @@ private:
     std::vector<float> values_;  // L and U blocks in single precision (kBlockSize per block of
                                  // lu_): each row is factored in double and stored rounded, which
                                  // halves the preconditioner's memory and the solves' traffic
-    std::vector<double> valuesDouble_;  // ... or in double precision (setSinglePrecision(false))
-    bool single_ = true;
+    std::vector<double> valuesDouble_;  // ... or in double precision
+    std::vector<Bf16> valuesHalf_;      // ... or in bfloat16
+    IluPrecision precision_ = IluPrecision::Single;
+    /// f(vals) with the stored blocks of the chosen precision.
+    template <class F>
+    void withValues(F&& f) const {
+        switch (precision_) {
+        case IluPrecision::Double: f(valuesDouble_.data()); break;
+        case IluPrecision::Single: f(values_.data()); break;
+        case IluPrecision::Bfloat16: f(valuesHalf_.data()); break;
+        }
+    }
     std::vector<long> diag_;     // index of each row's diagonal block
     std::vector<double> dinv_;   // inverted diagonal blocks of U (double)
     std::vector<long> source_;   // for each block of lu_, the block of A it starts from (-1: fill)

@@ -119,6 +119,7 @@ StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, c
       lowMemory_(fm.nodeCount >= n.lowMemoryNodes) {
     approx_.lumpedDissipation = true;
     approx_.freezeCoefficients = true;
+    ilu_.setPrecision(n.iluPrecision);
     if (n.preconditionerParts > 1) {
         ilu_.setOrdering(partitionOrdering(P_, blockGroups(fm, n.preconditionerParts), n.preconditionerParts));
     }

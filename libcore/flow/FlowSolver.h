@@ -50,6 +50,12 @@ struct NewtonOptions {
                                        // but a different path on hard designs (one random design
                                        // of the robustness suite stalls with it); opt-in for
                                        // grids where memory is the limit (docs/performance.md)
+    IluPrecision iluPrecision = IluPrecision::Single;  // storage of the preconditioner's
+                                       // factors; Bfloat16 halves their memory (0.75 GB on the
+                                       // 903k paper grid) with the same iterations on the samples,
+                                       // but like the float basis it moves hard designs' paths at
+                                       // round-off level: opt-in for grids where memory is the
+                                       // limit (docs/performance.md)
     int lowMemoryNodes = 300000;       // from this many grid nodes on, the approximate Jacobian
                                        // is kept after its ILU is factored only in float and only
                                        // for approximate steps (exact steps free it), and every

@@ -26,32 +26,15 @@ void sumChunks(const std::vector<double>& partial, long chunks, int k, double* o
     }
 }
 
-// sum_l a[l] b[l] over one chunk, in kLanes interleaved partial sums added at the end in a
-// fixed order: a single running sum is one dependent add per value (the add's latency, 3-4
-// cycles, was the Gram-Schmidt's whole cost), kLanes of them vectorize and pipeline. The order
-// depends only on the chunk's length, so the bits stay independent of the thread count.
-constexpr int kLanes = 8;
-
-template <class A>
-double chunkDot(const A* a, const double* b, long len) {
-    double lane[kLanes] = {};
-    long l = 0;
-    for (; l + kLanes <= len; l += kLanes) {
-        for (int u = 0; u < kLanes; ++u) lane[u] += static_cast<double>(a[l + u]) * b[l + u];
-    }
-    for (; l < len; ++l) lane[0] += static_cast<double>(a[l]) * b[l];
-    double s = 0;
-    for (int u = 0; u < kLanes; ++u) s += lane[u];
-    return s;
-}
-
 double dot(long n, const double* a, const double* b, std::vector<double>& partial) {
     const long chunks = chunkCount(n);
     partial.assign(chunks, 0.0);
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < chunks; ++c) {
-        const long first = c * kChunk, end = std::min(n, first + kChunk);
-        partial[c] = chunkDot(a + first, b + first, end - first);
+        const long end = std::min(n, (c + 1) * kChunk);
+        double s = 0;
+        for (long l = c * kChunk; l < end; ++l) s += a[l] * b[l];
+        partial[c] = s;
     }
     double s = 0;
     sumChunks(partial, chunks, 1, &s);
@@ -74,9 +57,14 @@ double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double*
         for (long c = 0; c < chunks; ++c) {
             const long first = c * kChunk, end = std::min(n, first + kChunk);
             for (int i = 0; i < k; ++i) {
-                partial[static_cast<std::size_t>(c * width + i)] = chunkDot(V[i] + first, w + first, end - first);
+                const B* v = V[i];
+                double s = 0;
+                for (long l = first; l < end; ++l) s += static_cast<double>(v[l]) * w[l];
+                partial[static_cast<std::size_t>(c * width + i)] = s;
             }
-            partial[static_cast<std::size_t>(c * width + k)] = chunkDot(w + first, w + first, end - first);
+            double s = 0;
+            for (long l = first; l < end; ++l) s += w[l] * w[l];
+            partial[static_cast<std::size_t>(c * width + k)] = s;
         }
         sumChunks(partial, chunks, width, g.data());
     };
@@ -90,7 +78,9 @@ double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double*
                 const double gi = g[i];
                 for (long l = first; l < end; ++l) w[l] -= gi * static_cast<double>(v[l]);
             }
-            partial[static_cast<std::size_t>(c * width + k)] = chunkDot(w + first, w + first, end - first);
+            double s = 0;
+            for (long l = first; l < end; ++l) s += w[l] * w[l];
+            partial[static_cast<std::size_t>(c * width + k)] = s;
         }
         double s = 0;
         for (long c = 0; c < chunks; ++c) s += partial[static_cast<std::size_t>(c * width + k)];

@@ -53,7 +53,7 @@ TEST(BlockIlu, IsExactOnABlockTridiagonalMatrix) {
     // ILU(0) of a chain has no dropped fill: it is the LU factorization.
     const BlockSparseMatrix A = gridMatrix(40, 1, 1);
     BlockIlu ilu;
-    ilu.setSinglePrecision(false);
+    ilu.setPrecision(IluPrecision::Double);
     ASSERT_TRUE(ilu.factor(A, 0)) << ilu.message();
     const std::vector<double> b = randomVector(kBlock * A.rows, 2);
     std::vector<double> x(b.size());
@@ -67,16 +67,37 @@ TEST(BlockIlu, IsExactOnABlockTridiagonalMatrix) {
     const double e = maxError(A, xs, b);
     EXPECT_LT(e, 1e-5);
     EXPECT_GT(e, 1e-12);  // it really is rounded
+    // In bfloat16 (8 significant bits): exact to that rounding, relative to the solution's size.
+    BlockIlu half;
+    half.setPrecision(IluPrecision::Bfloat16);
+    ASSERT_TRUE(half.factor(A, 0)) << half.message();
+    std::vector<double> xh(b.size());
+    half.solve(b.data(), xh.data());
+    const double eh = maxError(A, xh, b);
+    EXPECT_LT(eh, 5e-2);
+    EXPECT_GT(eh, 10 * e);
 }
 
-TEST(BlockIlu, SinglePrecisionStorageLeavesGmresIterationsUnchanged) {
+TEST(BlockIlu, BfloatStorageRoundsToNearestEven) {
+    EXPECT_EQ(static_cast<float>(Bf16::round(1.0f)), 1.0f);
+    EXPECT_EQ(static_cast<float>(Bf16::round(-3.5f)), -3.5f);
+    // 1 + 2^-8 is halfway between 1 and 1 + 2^-7: to the even one, 1; just above it rounds up.
+    EXPECT_EQ(static_cast<float>(Bf16::round(1.0f + 0.00390625f)), 1.0f);
+    EXPECT_EQ(static_cast<float>(Bf16::round(1.0f + 0.0040f)), 1.0f + 0.0078125f);
+    const float x = 0.123456f;
+    EXPECT_LE(std::abs(static_cast<float>(Bf16::round(x)) - x), x / 256);
+    EXPECT_EQ(sizeof(Bf16), 2u);
+}
+
+TEST(BlockIlu, ReducedPrecisionStorageKeepsGmresIterations) {
     const BlockSparseMatrix A = gridMatrix(30, 20, 7);
     const std::vector<double> b = randomVector(kBlock * A.rows, 8);
     const LinearMap Am = [&](const double* in, double* out) { A.mult(in, out); };
-    int iterations[2] = {0, 0};
-    for (int single : {0, 1}) {
+    int iterations[3] = {0, 0, 0};
+    for (int single : {0, 1, 2}) {
         BlockIlu ilu;
-        ilu.setSinglePrecision(single == 1);
+        ilu.setPrecision(single == 0 ? IluPrecision::Double
+                                     : (single == 1 ? IluPrecision::Single : IluPrecision::Bfloat16));
         ASSERT_TRUE(ilu.factor(A, 1));
         const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
         std::vector<double> x(b.size(), 0.0);
@@ -86,6 +107,8 @@ TEST(BlockIlu, SinglePrecisionStorageLeavesGmresIterationsUnchanged) {
         iterations[single] = r.iterations;
     }
     EXPECT_LE(std::abs(iterations[1] - iterations[0]), 1) << iterations[0] << " vs " << iterations[1];
+    // bfloat16 factors: a slightly weaker preconditioner, still to full accuracy.
+    EXPECT_LE(iterations[2], iterations[0] + iterations[0] / 5 + 1) << iterations[0] << " vs " << iterations[2];
 }
 
 TEST(BlockIlu, WithEnoughFillIsTheCompleteFactorization) {
@@ -94,7 +117,7 @@ TEST(BlockIlu, WithEnoughFillIsTheCompleteFactorization) {
     const std::vector<double> b = randomVector(kBlock * A.rows, 4);
     std::vector<double> x(b.size());
     BlockIlu partial, complete;
-    complete.setSinglePrecision(false);
+    complete.setPrecision(IluPrecision::Double);
     ASSERT_TRUE(partial.factor(A, 0));
     partial.solve(b.data(), x.data());
     EXPECT_GT(maxError(A, x, b), 1e-6);  // ILU(0) drops fill: not exact here
@@ -149,7 +172,7 @@ TEST(BlockIlu, OrderedFactorizationIsExactWithFullFillAndTheSameOnAnyThreadCount
     const std::vector<double> b = randomVector(kBlock * A.rows, 12);
     // Complete fill: the ordered factorization is an exact LU of the permuted matrix.
     BlockIlu complete;
-    complete.setSinglePrecision(false);
+    complete.setPrecision(IluPrecision::Double);
     complete.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
     ASSERT_TRUE(complete.factor(A, 40)) << complete.message();
     std::vector<double> x(b.size());
@@ -177,7 +200,7 @@ TEST(BlockIlu, TransposedSolveIsExactWithFullFillAndTheAdjointOfSolve) {
     const BlockSparseMatrix A = gridMatrix(10, 7, 11);
     const std::vector<double> b = randomVector(kBlock * A.rows, 21);
     BlockIlu complete;
-    complete.setSinglePrecision(false);
+    complete.setPrecision(IluPrecision::Double);
     complete.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
     ASSERT_TRUE(complete.factor(A, 40)) << complete.message();
     std::vector<double> x(b.size()), Atx(b.size());
@@ -246,8 +269,8 @@ TEST(BlockSparse, TransposeInPlaceIsTheTransposeAndItsIluTheTransposedIlu) {
 
     for (int fill : {0, 1}) {
         BlockIlu ilu, iluT;
-        ilu.setSinglePrecision(false);
-        iluT.setSinglePrecision(false);
+        ilu.setPrecision(IluPrecision::Double);
+        iluT.setPrecision(IluPrecision::Double);
         ilu.setOrdering(partitionOrdering(A, columnParts(A, 10, 4), 2));
         iluT.setOrdering(partitionOrdering(At, columnParts(At, 10, 4), 2));
         ASSERT_TRUE(ilu.factor(A, fill));

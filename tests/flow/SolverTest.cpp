@@ -246,6 +246,29 @@ TEST(FlowSolver, LowMemoryStepsFreeTheMatrixAndTheBasisAndRebuildThem) {
     EXPECT_LE(std::abs(a.iterations - b.iterations), 2);
 }
 
+TEST(FlowSolver, BfloatPreconditionerFactorsReachTheSameSolution) {
+    // flow.ilu_precision bfloat16: the ILU factors stored with 8 significant bits (half the memory
+    // of float). Only the preconditioner changes, so the converged state is the same and the
+    // Newton and GMRES iterations stay close to the float factors' (the same counts on the
+    // samples: docs/performance.md).
+    const testing::FlowCase& c = testing::halfSphere(0.3);
+    const ResidualOptions o = freeStreamAt(0.5, 1.2);
+    NewtonOptions n;
+    std::vector<double> q0, q1;
+    const FlowReport single = solve(c, o, q0, n);
+    n.iluPrecision = IluPrecision::Bfloat16;
+    const FlowReport half = solve(c, o, q1, n);
+    ASSERT_TRUE(single.converged()) << single.message;
+    ASSERT_TRUE(half.converged()) << half.message;
+    double worst = 0;
+    for (std::size_t i = 0; i < q0.size(); ++i) worst = std::max(worst, std::abs(q0[i] - q1[i]));
+    std::printf("float factors: %d iterations, %d GMRES; bfloat16: %d, %d; states differ by %.3e\n", single.iterations,
+                single.linearIterations, half.iterations, half.linearIterations, worst);
+    EXPECT_LT(worst, 1e-8);
+    EXPECT_LE(std::abs(single.iterations - half.iterations), 2);
+    EXPECT_LE(half.linearIterations, single.linearIterations + single.linearIterations / 5);
+}
+
 TEST(FlowSolver, LocalCflKeepsOneStiffNodeFromHoldingTheWholeStep) {
     // A smooth disturbance plus one node at a hundredth of its pressure: the steps that fill it
     // change it by far more than the 30 % limit. With one global step scale the whole field
