@@ -35,9 +35,9 @@ IluOrdering partitionOrdering(const BlockSparseMatrix& A, const std::vector<int>
 /// Storage of the factors' blocks. Each row is factored in double precision and stored rounded;
 /// the inverted diagonal blocks stay double. Single halves the memory and the triangular solves'
 /// traffic against Double with the same GMRES iterations (standard for preconditioners);
-/// Bfloat16 (8 significant bits, the exponent range of float) halves them again: the solves are
-/// bound by reading the factors (ILU(1): ~17 blocks per row), and a preconditioner's blocks need
-/// no more than 2-3 digits (docs/performance.md has the iteration counts).
+/// Bfloat16 (8 significant bits, the exponent range of float) halves the memory again with the
+/// same iterations on the flow samples, but the sweeps are not faster than with Single (widening
+/// each value costs what the halved traffic saves): a memory option (docs/performance.md).
 enum class IluPrecision { Double, Single, Bfloat16 };
 
 /// A bfloat16 value: the upper 16 bits of a float (round to nearest even when stored).
