@@ -10,6 +10,10 @@ namespace aero::flow {
 
 namespace {
 using Block = Eigen::Matrix<double, kBlock, kBlock, Eigen::RowMajor>;
+// A factor value computed in double, stored in the factors' precision.
+inline void storeRounded(double v, double& to) { to = v; }
+inline void storeRounded(double v, float& to) { to = static_cast<float>(v); }
+inline void storeRounded(double v, Bf16& to) { to = Bf16::round(static_cast<float>(v)); }
 using Map = Eigen::Map<Block>;
 using ConstMap = Eigen::Map<const Block>;
 }  // namespace
@@ -165,7 +169,6 @@ bool BlockIlu::factor(const BlockSparseMatrix& A, int fill) {
 
 void BlockIlu::factorRows(const BlockSparseMatrix& A, long firstRow, long lastRow, std::vector<long>& where,
                           std::vector<double>& row, std::string& message) {
-    using FloatMap = Eigen::Map<const Eigen::Matrix<float, kBlock, kBlock, Eigen::RowMajor>>;
     for (long i = firstRow; i < lastRow; ++i) {
         const long first = lu_.rowStart[i], last = lu_.rowStart[i + 1];
         row.assign(kBlockSize * static_cast<std::size_t>(last - first), 0.0);
@@ -183,20 +186,11 @@ void BlockIlu::factorRows(const BlockSparseMatrix& A, long firstRow, long lastRo
             for (long c = diag_[k] + 1; c < lu_.rowStart[k + 1]; ++c) {
                 const long t = where[lu_.cols[c]];
                 if (t < 0) continue;
-                switch (precision_) {
-                case IluPrecision::Double:
-                    Map(&row[kBlockSize * (t - first)]).noalias() -= L * ConstMap(&valuesDouble_[kBlockSize * c]);
-                    break;
-                case IluPrecision::Single:
-                    Map(&row[kBlockSize * (t - first)]).noalias() -= L * FloatMap(&values_[kBlockSize * c]).cast<double>();
-                    break;
-                case IluPrecision::Bfloat16: {
-                    Block U;
-                    for (int e = 0; e < kBlockSize; ++e) U.data()[e] = valuesHalf_[kBlockSize * c + e];
-                    Map(&row[kBlockSize * (t - first)]).noalias() -= L * U;
-                    break;
-                }
-                }
+                Block U;  // U_kj as stored
+                withValues([&](const auto* vals) {
+                    for (int e = 0; e < kBlockSize; ++e) U.data()[e] = static_cast<double>(vals[kBlockSize * c + e]);
+                });
+                Map(&row[kBlockSize * (t - first)]).noalias() -= L * U;
             }
         }
         diag_[i] = where[i];
@@ -214,19 +208,9 @@ void BlockIlu::factorRows(const BlockSparseMatrix& A, long firstRow, long lastRo
         }
         Map dinv(&dinv_[kBlockSize * i]);
         dinv = lu.inverse();
-        switch (precision_) {
-        case IluPrecision::Double:
-            std::copy(row.begin(), row.end(), valuesDouble_.begin() + kBlockSize * first);
-            break;
-        case IluPrecision::Single:
-            for (std::size_t e = 0; e < row.size(); ++e) values_[kBlockSize * first + e] = static_cast<float>(row[e]);
-            break;
-        case IluPrecision::Bfloat16:
-            for (std::size_t e = 0; e < row.size(); ++e) {
-                valuesHalf_[kBlockSize * first + e] = Bf16::round(static_cast<float>(row[e]));
-            }
-            break;
-        }
+        withValues([&](auto* vals) {
+            for (std::size_t e = 0; e < row.size(); ++e) storeRounded(row[e], vals[kBlockSize * first + e]);
+        });
     }
 }
 

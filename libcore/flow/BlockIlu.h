@@ -103,13 +103,22 @@ private:
     std::vector<double> valuesDouble_;  // ... or in double precision
     std::vector<Bf16> valuesHalf_;      // ... or in bfloat16
     IluPrecision precision_ = IluPrecision::Single;
-    /// f(vals) with the stored blocks of the chosen precision.
+    /// f(vals) with the stored blocks of the chosen precision (const pointers, or writable ones
+    /// for the factorization).
     template <class F>
     void withValues(F&& f) const {
-        switch (precision_) {
-        case IluPrecision::Double: f(valuesDouble_.data()); break;
-        case IluPrecision::Single: f(values_.data()); break;
-        case IluPrecision::Bfloat16: f(valuesHalf_.data()); break;
+        withValuesOf(*this, f);
+    }
+    template <class F>
+    void withValues(F&& f) {
+        withValuesOf(*this, f);
+    }
+    template <class Self, class F>
+    static void withValuesOf(Self& self, F& f) {
+        switch (self.precision_) {
+        case IluPrecision::Double: f(self.valuesDouble_.data()); break;
+        case IluPrecision::Single: f(self.values_.data()); break;
+        case IluPrecision::Bfloat16: f(self.valuesHalf_.data()); break;
         }
     }
     std::vector<long> diag_;     // index of each row's diagonal block
