@@ -279,14 +279,14 @@ void BlockIncompleteCholesky::solve(const double* r, double* z) const {
     // (I + L) y = P r, then x = D^{-1} y: the parts at once, then the separator.
     auto forward = [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
-            double* yi = y + 3 * static_cast<std::size_t>(i);
+            // The row's sums in registers (y_i cannot alias the y_j it reads, but the compiler
+            // cannot know that): the same operations in the same order as in memory.
             const double* ri = r + 3 * static_cast<std::size_t>(perm_[i]);
-            yi[0] = ri[0];
-            yi[1] = ri[1];
-            yi[2] = ri[2];
+            double yi[3] = {ri[0], ri[1], ri[2]};
             for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
                 subtractAx(&lowerSingle_[9 * static_cast<std::size_t>(t)], y + 3 * static_cast<std::size_t>(lowerCols_[t]), yi);
             }
+            std::copy_n(yi, 3, y + 3 * static_cast<std::size_t>(i));
             const float* p = &pivotSingle_[9 * static_cast<std::size_t>(i)];
             double* xi = x + 3 * static_cast<std::size_t>(i);
             xi[0] = p[0] * yi[0] + p[1] * yi[1] + p[2] * yi[2];
@@ -298,7 +298,8 @@ void BlockIncompleteCholesky::solve(const double* r, double* z) const {
     // then z = P^T x: the separator first, then the parts at once.
     auto backward = [&](int begin, int end) {
         for (int i = end - 1; i >= begin; --i) {
-            const double* xi = x + 3 * static_cast<std::size_t>(i);
+            const double xi[3] = {x[3 * static_cast<std::size_t>(i)], x[3 * static_cast<std::size_t>(i) + 1],
+                                  x[3 * static_cast<std::size_t>(i) + 2]};  // final: read once
             for (int t = lowerStart_[i]; t < lowerStart_[i + 1]; ++t) {
                 subtractAtx(&lowerSingle_[9 * static_cast<std::size_t>(t)], xi, x + 3 * static_cast<std::size_t>(lowerCols_[t]));
             }
@@ -318,6 +319,12 @@ void BlockIncompleteCholesky::solve(const double* r, double* z) const {
 
 CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky& M, const std::vector<double>& b,
                             std::vector<double>& x, double tolerance, int maxIterations) {
+    CgWorkspace work;
+    return conjugateGradients(A, M, b, x, tolerance, maxIterations, work);
+}
+
+CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky& M, const std::vector<double>& b,
+                            std::vector<double>& x, double tolerance, int maxIterations, CgWorkspace& work) {
     CgReport rep;
     const long n = static_cast<long>(b.size());
     x.resize(n, 0.0);
@@ -327,7 +334,12 @@ CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky
         rep.converged = true;
         return rep;
     }
-    std::vector<double> r(n), z(n), p(n), q(n);
+    // Every element of the work vectors is written before it is read.
+    for (std::vector<double>* v : {&work.r, &work.z, &work.p, &work.q}) v->resize(n);
+    std::vector<double>& r = work.r;
+    std::vector<double>& z = work.z;
+    std::vector<double>& p = work.p;
+    std::vector<double>& q = work.q;
     A.mult(x.data(), q.data());
     for (long i = 0; i < n; ++i) r[i] = b[i] - q[i];
     const double threshold = std::max(tolerance * tolerance * bb, std::numeric_limits<double>::min());
@@ -361,16 +373,32 @@ CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky
 
 std::vector<double> galerkinGuess(const Block3Matrix& A, const std::vector<std::vector<double>>& basis,
                                   const std::vector<double>& b) {
+    CgWorkspace work;
+    return galerkinGuess(A, basis, b, work);
+}
+
+std::vector<double> galerkinGuess(const Block3Matrix& A, const std::vector<std::vector<double>>& basis,
+                                  const std::vector<double>& b, CgWorkspace& work) {
     const std::size_t n = b.size();
     std::vector<double> x(n, 0.0);
-    std::vector<std::vector<double>> w, Aw;  // A-orthonormal vectors and their products
-    std::vector<double> Av(n);
+    // The A-orthonormal vectors and their products: the first `count` entries of work.w and
+    // work.Aw, whose vectors are kept for the next call.
+    std::vector<std::vector<double>>& w = work.w;
+    std::vector<std::vector<double>>& Aw = work.Aw;
+    std::size_t count = 0;
     for (const std::vector<double>& v0 : basis) {
-        std::vector<double> v = v0;
+        if (w.size() <= count) {
+            w.emplace_back();
+            Aw.emplace_back();
+        }
+        std::vector<double>& v = w[count];
+        std::vector<double>& Av = Aw[count];
+        v.assign(v0.begin(), v0.end());
+        Av.resize(n);
         A.mult(v.data(), Av.data());
         const double norm0 = dot(v, Av);
         if (!(norm0 > 0)) continue;
-        for (std::size_t j = 0; j < w.size(); ++j) {
+        for (std::size_t j = 0; j < count; ++j) {
             const double c = dot(Aw[j], v);
             for (std::size_t i = 0; i < n; ++i) {
                 v[i] -= c * w[j][i];
@@ -386,8 +414,7 @@ std::vector<double> galerkinGuess(const Block3Matrix& A, const std::vector<std::
         }
         const double c = dot(v, b);
         for (std::size_t i = 0; i < n; ++i) x[i] += c * v[i];
-        w.push_back(std::move(v));
-        Aw.push_back(Av);
+        ++count;  // kept: the next basis vector is orthogonalized against it
     }
     return x;
 }

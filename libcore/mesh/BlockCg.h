@@ -77,8 +77,18 @@ struct CgReport {
     bool converged = false;
 };
 
+/// Work vectors of conjugateGradients and galerkinGuess, kept by a caller that solves a sequence
+/// of systems (the move's increments): fresh vectors of this size cost page faults on every
+/// solve (on this project's VMs, ~3 ms per MB touched for the first time).
+struct CgWorkspace {
+    std::vector<double> r, z, p, q;
+    std::vector<std::vector<double>> w, Aw;  // galerkinGuess: the A-orthonormal basis and its products
+};
+
 /// Solves A x = b from the guess in x; stops when the relative residual reaches `tolerance` or
 /// after maxIterations.
+CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky& M, const std::vector<double>& b,
+                            std::vector<double>& x, double tolerance, int maxIterations, CgWorkspace& work);
 CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky& M, const std::vector<double>& b,
                             std::vector<double>& x, double tolerance, int maxIterations);
 
@@ -87,6 +97,8 @@ CgReport conjugateGradients(const Block3Matrix& A, const BlockIncompleteCholesky
 /// on the way is dropped as dependent) and x0 = sum_j (w_j . b) w_j. For a sequence of similar
 /// systems (the move's increments) the earlier solutions give a guess one or two orders better
 /// than the last solution alone.
+std::vector<double> galerkinGuess(const Block3Matrix& A, const std::vector<std::vector<double>>& basis,
+                                  const std::vector<double>& b, CgWorkspace& work);
 std::vector<double> galerkinGuess(const Block3Matrix& A, const std::vector<std::vector<double>>& basis,
                                   const std::vector<double>& b);
 

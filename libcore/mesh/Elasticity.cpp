@@ -91,16 +91,39 @@ T gaussGradients(const T* x, int q, T G[8][3]) {
     return det;
 }
 
-}  // namespace
-
+// The cell's volume: the sum over the 2x2x2 Gauss points of det J.
 template <class T>
-void cellMetrics(const T* x, T& volume, T& minScaled) {
-    volume = T(0.0);
+T cellVolume(const T* x) {
+    T volume = T(0.0);
     for (int q = 0; q < 8; ++q) {
         double dN[8][3];
         Eigen::Matrix<T, 3, 3> J;
         volume += gaussJacobian(x, q, dN, J);
     }
+    return volume;
+}
+
+template <class T>
+T cellOrthogonalityOf(const T* x);
+
+// cellModulus for a cell whose volume is known (the assembly computes every volume first, for
+// their mean).
+template <class T>
+T modulusWithVolume(const T* x, T vol, T meanVolume, const ElasticityOptions& o) {
+    const T q = cellOrthogonalityOf(x);
+    T e = T(1.0);
+    if (realPart(vol) > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
+    // clamp(q, 0, 1), piecewise: its derivative is q's inside and 0 outside.
+    const T qc = realPart(q) < 0 ? T(0.0) : (realPart(q) > 1 ? T(1.0) : q);
+    e *= 1.0 + o.orthogonalityStiffening * (1.0 - qc);
+    return e;
+}
+
+}  // namespace
+
+template <class T>
+void cellMetrics(const T* x, T& volume, T& minScaled) {
+    volume = cellVolume(x);
     T corners[8];
     cornerScaledJacobians(x, corners);
     minScaled = T(1.0);
@@ -128,6 +151,13 @@ void cornerScaledJacobians(const T* x, T* corners) {
 
 template <class T>
 T cellOrthogonality(const T* x) {
+    return cellOrthogonalityOf(x);
+}
+
+namespace {
+
+template <class T>
+T cellOrthogonalityOf(const T* x) {
     using std::exp;
     using std::log;
     T q[8];
@@ -138,6 +168,8 @@ T cellOrthogonality(const T* x) {
     for (int a = 0; a < 8; ++a) s += exp(-kOrthogonalitySharpness * (q[a] - lowest));
     return lowest - log(s / 8.0) / kOrthogonalitySharpness;
 }
+
+}  // namespace
 
 template <class T>
 T hexBilinear(const T* x, T E, double nu, const double* a, const double* b) {
@@ -168,15 +200,7 @@ T hexBilinear(const T* x, T E, double nu, const double* a, const double* b) {
 
 template <class T>
 T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o) {
-    T vol, qmin;
-    cellMetrics(x, vol, qmin);
-    const T q = cellOrthogonality(x);
-    T e = T(1.0);
-    if (realPart(vol) > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
-    // clamp(q, 0, 1), piecewise: its derivative is q's inside and 0 outside.
-    const T qc = realPart(q) < 0 ? T(0.0) : (realPart(q) > 1 ? T(1.0) : q);
-    e *= 1.0 + o.orthogonalityStiffening * (1.0 - qc);
-    return e;
+    return modulusWithVolume(x, cellVolume(x), meanVolume, o);
 }
 
 double cellModulusGradient(const double* x, double meanVolume, const ElasticityOptions& o, double* dE,
@@ -346,8 +370,6 @@ std::vector<char> boundaryConstraints(const MultiBlockMesh& m) {
     return c;
 }
 
-namespace {
-
 // Every control cell of every block in order (blocks, then k, j, i), with its corner nodes.
 struct CellList {
     std::vector<int> nodes;         // 8 per cell, VTK order
@@ -355,6 +377,8 @@ struct CellList {
     std::vector<std::array<int, 3>> index;  // per cell, (i, j, k) in its block
     long count() const { return static_cast<long>(block.size()); }
 };
+
+namespace {
 
 CellList listCells(const MultiBlockMesh& m) {
     CellList l;
@@ -373,6 +397,8 @@ CellList listCells(const MultiBlockMesh& m) {
     }
     return l;
 }
+
+}  // namespace
 
 // The structure of K_ff for one control grid's topology and constraints, in 3x3 node blocks,
 // built once per move (or mesh adjoint) and reused by every increment with its buffers: the
@@ -394,12 +420,16 @@ struct StiffnessLayout {
     Block3Matrix A;                // K_ff's pattern, and its values once assembled
     std::vector<double> rhs;
     BlockIncompleteCholesky preconditioner;
+    CgWorkspace cg;                               // the solves' work vectors
+    std::vector<std::vector<double>> guessBasis;  // the earlier solutions on the free DOFs
     int size() const { return 3 * blockRows; }
 };
 
-StiffnessLayout makeLayout(const MultiBlockMesh& m, const std::vector<char>& constrained) {
+namespace {
+
+StiffnessLayout makeLayout(const MultiBlockMesh& m, CellList cellList, const std::vector<char>& constrained) {
     StiffnessLayout L;
-    L.cells = listCells(m);
+    L.cells = std::move(cellList);
     L.constrained = constrained;
     const int nodes = static_cast<int>(m.control.size() / 3);
     L.blockRow.assign(nodes, -1);
@@ -412,18 +442,38 @@ StiffnessLayout makeLayout(const MultiBlockMesh& m, const std::vector<char>& con
         }
     }
     const long cells = L.cells.count();
-    std::vector<std::vector<int>> columns(L.blockRows);
-    for (long c = 0; c < cells; ++c) {
-        const int* cn = &L.cells.nodes[8 * c];
-        for (int a = 0; a < 8; ++a) {
-            const int ra = L.blockRow[cn[a]];
-            if (ra < 0) continue;
-            for (int b = 0; b < 8; ++b) {
-                if (L.blockRow[cn[b]] >= 0) columns[ra].push_back(L.blockRow[cn[b]]);
-            }
+    // The block pattern straight from the cells: each node's incident cells (in cell order), then
+    // each block row's neighbours among their corners, sorted without duplicates.
+    std::vector<int> incidentStart(nodes + 1, 0), incident(8 * static_cast<std::size_t>(cells));
+    for (long c = 0; c < 8 * cells; ++c) ++incidentStart[L.cells.nodes[c] + 1];
+    for (int n = 0; n < nodes; ++n) incidentStart[n + 1] += incidentStart[n];
+    {
+        std::vector<int> next(incidentStart.begin(), incidentStart.end() - 1);
+        for (long c = 0; c < cells; ++c) {
+            for (int a = 0; a < 8; ++a) incident[next[L.cells.nodes[8 * c + a]]++] = static_cast<int>(c);
         }
     }
-    L.A = makeBlock3Pattern(std::move(columns));
+    Block3Matrix& A = L.A;
+    A.rows = L.blockRows;
+    A.rowStart.assign(A.rows + 1, 0);
+    A.cols.clear();
+    std::vector<int> row;
+    for (int n = 0; n < nodes; ++n) {
+        const int r = L.blockRow[n];
+        if (r < 0) continue;
+        row.assign(1, r);
+        for (int t = incidentStart[n]; t < incidentStart[n + 1]; ++t) {
+            const int* cn = &L.cells.nodes[8 * static_cast<std::size_t>(incident[t])];
+            for (int b = 0; b < 8; ++b) {
+                if (L.blockRow[cn[b]] >= 0) row.push_back(L.blockRow[cn[b]]);
+            }
+        }
+        std::sort(row.begin(), row.end());
+        row.erase(std::unique(row.begin(), row.end()), row.end());
+        A.cols.insert(A.cols.end(), row.begin(), row.end());
+        A.rowStart[r + 1] = static_cast<int>(A.cols.size());
+    }
+    A.values.resize(9 * A.cols.size());  // zeroed by every assembly
     L.slot.assign(static_cast<std::size_t>(cells) * 64, -1);
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < cells; ++c) {
@@ -465,9 +515,9 @@ FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::
     std::vector<double> volume(cells);
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < cells; ++c) {
-        double x[24], q = 0;
+        double x[24];
         corners(c, x);
-        cellMetrics(x, volume[c], q);
+        volume[c] = cellVolume(x);
     }
     double total = 0;
     for (long c = 0; c < cells; ++c) {
@@ -509,7 +559,7 @@ FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::
         for (long c = c0; c < c1; ++c) {
             double x[24];
             corners(c, x);
-            hexStiffness<double>(x, cellModulus(x, s.meanVolume, o), o.poisson, &L.elements[576 * static_cast<std::size_t>(c - c0)]);
+            hexStiffness<double>(x, modulusWithVolume(x, volume[c], s.meanVolume, o), o.poisson, &L.elements[576 * static_cast<std::size_t>(c - c0)]);
         }
 #pragma omp parallel
         {
@@ -568,7 +618,8 @@ FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::
 // the factors (the mesh adjoint's functionals share each increment's K).
 class FreeSolver {
 public:
-    FreeSolver(const Block3Matrix& A, BlockIncompleteCholesky& ic, const ElasticityOptions& o) : A_(A), o_(o), ic_(ic) {
+    FreeSolver(const Block3Matrix& A, BlockIncompleteCholesky& ic, CgWorkspace& work, const ElasticityOptions& o)
+        : A_(A), o_(o), ic_(ic), work_(work) {
         if (o.solver != ElasticityOptions::Solver::Direct) preconditioned_ = ic_.compute(A);
     }
 
@@ -581,7 +632,7 @@ public:
             const int limit = o_.solver == ElasticityOptions::Solver::Auto ? std::min(o_.maxIterations, o_.directAfter)
                                                                             : o_.maxIterations;
             if (preconditioned_) {
-                const CgReport cg = conjugateGradients(A_, ic_, rhs, sol, o_.tolerance, limit);
+                const CgReport cg = conjugateGradients(A_, ic_, rhs, sol, o_.tolerance, limit, work_);
                 r.iterations = cg.iterations;
                 r.residual = cg.residual;
                 r.converged = cg.converged;
@@ -641,6 +692,7 @@ private:
     const Block3Matrix& A_;
     ElasticityOptions o_;
     BlockIncompleteCholesky& ic_;
+    CgWorkspace& work_;
     bool preconditioned_ = false;
     Eigen::SparseMatrix<double> scalar_;
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
@@ -663,15 +715,16 @@ IncrementResult solveIncrement(const MultiBlockMesh& m, StiffnessLayout& layout,
         r.u.assign(ndof, 0.0);
         return r;
     }
-    std::vector<std::vector<double>> basis;
-    for (const std::vector<double>& u : previous) {
-        basis.emplace_back(layout.size(), 0.0);
+    std::vector<std::vector<double>>& basis = layout.guessBasis;  // its vectors kept for the next increment
+    basis.resize(previous.size());
+    for (std::size_t k = 0; k < previous.size(); ++k) {
+        basis[k].resize(layout.size());
         for (int d = 0; d < ndof; ++d) {
-            if (layout.freeIndex[d] >= 0) basis.back()[layout.freeIndex[d]] = u[d];
+            if (layout.freeIndex[d] >= 0) basis[k][layout.freeIndex[d]] = previous[k][d];
         }
     }
-    const std::vector<double> x0 = galerkinGuess(layout.A, basis, layout.rhs);
-    FreeSolver solver(layout.A, layout.preconditioner, o);
+    const std::vector<double> x0 = galerkinGuess(layout.A, basis, layout.rhs, layout.cg);
+    FreeSolver solver(layout.A, layout.preconditioner, layout.cg, o);
     const std::vector<double> sol = solver.solve(layout.rhs, x0, r);
     r.u.assign(ndof, 0.0);
     for (int d = 0; d < ndof; ++d) {
@@ -682,10 +735,24 @@ IncrementResult solveIncrement(const MultiBlockMesh& m, StiffnessLayout& layout,
 
 }  // namespace
 
+MoveWorkspace::MoveWorkspace() = default;
+MoveWorkspace::~MoveWorkspace() = default;
+MoveWorkspace::MoveWorkspace(MoveWorkspace&&) noexcept = default;
+MoveWorkspace& MoveWorkspace::operator=(MoveWorkspace&&) noexcept = default;
+
+StiffnessLayout& MoveWorkspace::layoutFor(const MultiBlockMesh& m, const std::vector<char>& constrained) {
+    CellList cells = listCells(m);
+    if (!layout_ || layout_->cells.nodes != cells.nodes || layout_->constrained != constrained) {
+        layout_ = std::make_unique<StiffnessLayout>(makeLayout(m, std::move(cells), constrained));
+        ++builds_;
+    }
+    return *layout_;
+}
+
 IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>& constrained,
                                 const std::vector<double>& prescribed, const ElasticityOptions& o,
                                 const std::vector<double>* initial) {
-    StiffnessLayout layout = makeLayout(m, constrained);
+    StiffnessLayout layout = makeLayout(m, listCells(m), constrained);
     std::vector<std::vector<double>> previous;
     if (initial) previous.push_back(*initial);
     return solveIncrement(m, layout, prescribed, o, previous);
@@ -693,7 +760,7 @@ IncrementResult solveElasticity(const MultiBlockMesh& m, const std::vector<char>
 
 MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface, const ElasticityOptions& o,
                            const std::function<void(int, int)>& progress, const std::atomic<bool>* cancel,
-                           MoveHistory* history) {
+                           MoveHistory* history, MoveWorkspace* workspace) {
     const auto t0 = std::chrono::steady_clock::now();
     MoveReport rep;
     if (surface.size() != 3 * m.surfaceNode.size()) {
@@ -709,7 +776,8 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
     rep.freeDofs = 0;
     for (char c : constrained) rep.freeDofs += c ? 0 : 1;
     if (history) *history = {};
-    StiffnessLayout layout = makeLayout(m, constrained);
+    MoveWorkspace local;
+    StiffnessLayout& layout = (workspace ? *workspace : local).layoutFor(m, constrained);
     std::vector<std::vector<double>> previous;  // the earlier increments' solutions
     for (int inc = 1; inc <= o.increments; ++inc) {
         if (cancel && cancel->load()) {
@@ -798,11 +866,7 @@ long cellCount(const MultiBlockMesh& m) {
 double meanCellVolume(const MultiBlockMesh& m) {
     double total = 0;
     for (const ControlBlock& b : m.blocks) {
-        forEachCell(m, b, [&](const double* x, const int*) {
-            double vol = 0, q = 0;
-            cellMetrics(x, vol, q);
-            total += vol;
-        });
+        forEachCell(m, b, [&](const double* x, const int*) { total += cellVolume(x); });
     }
     return total / std::max(1L, cellCount(m));
 }
@@ -922,7 +986,7 @@ std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHi
 std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m, const MoveHistory& history,
                                                          const ElasticityOptions& o,
                                                          const std::vector<std::vector<double>>& gFinals,
-                                                         MeshAdjointReport* report) {
+                                                         MeshAdjointReport* report, MoveWorkspace* workspace) {
     const auto t0 = std::chrono::steady_clock::now();
     MeshAdjointReport rep;
     const std::size_t ndof = m.control.size();
@@ -947,7 +1011,8 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
         }
     }
     const std::vector<char> constrained = boundaryConstraints(m);
-    StiffnessLayout layout = makeLayout(m, constrained);
+    MoveWorkspace local;
+    StiffnessLayout& layout = (workspace ? *workspace : local).layoutFor(m, constrained);
     MultiBlockMesh grid = m;  // structure; the control points of each increment from the history
     const std::vector<double> zero(ndof, 0.0);
     std::vector<std::vector<std::vector<double>>> earlier(nr);  // per functional: its solutions so far
@@ -963,7 +1028,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
             rep.message = "increment " + std::to_string(inc) + ": " + s.message;
             break;
         }
-        FreeSolver solver(layout.A, layout.preconditioner, o);
+        FreeSolver solver(layout.A, layout.preconditioner, layout.cg, o);
         std::vector<std::vector<double>> lambdas(nr, std::vector<double>(ndof, 0.0));
         for (std::size_t p = 0; p < nr && rep.converged; ++p) {
             std::vector<double> rhs(layout.size(), 0.0);
@@ -973,7 +1038,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
             IncrementResult r;
             // Start from the best combination of this functional's later-increment solutions (the
             // increments' systems and right-hand sides are alike).
-            const std::vector<double> sol = solver.solve(rhs, galerkinGuess(layout.A, earlier[p], rhs), r);
+            const std::vector<double> sol = solver.solve(rhs, galerkinGuess(layout.A, earlier[p], rhs, layout.cg), r);
             earlier[p].push_back(sol);
             rep.iterations.push_back(r.iterations);
             rep.directSolves += r.direct ? 1 : 0;

@@ -249,7 +249,7 @@ void CaseEvaluator::evaluateMesh(Evaluation& e, const EvaluationRequest& request
         say(format("moving the control grid: increment 1 of %d", increments), 0.05);
         m->move = mesh::moveControlGrid(m->control, e.uniqueSurface, case_.mesh.elasticity, [&](int i, int n) {
             if (i < n) say(format("moving the control grid: increment %d of %d", i + 1, n), 0.05 + 0.85 * i / std::max(1, n));
-        }, cancel, &m->history);
+        }, cancel, &m->history, &moveWorkspace_);
         say(format("moved the control grid: %d increments, %d PCG iterations, %d free DOFs, %.3f s",
                    static_cast<int>(m->move.cgIterations.size()), m->move.totalIterations, m->move.freeDofs,
                    m->move.seconds));

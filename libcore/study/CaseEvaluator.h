@@ -208,6 +208,9 @@ public:
     /// The state the next warm-started flow starts from (5 per node of the case's grid; another
     /// size is ignored by evaluate): e.g. the state of a resumed optimization's last evaluation.
     void setWarmStart(std::vector<double> q) { warm_ = std::move(q); }
+    /// The control-grid move's stiffness layout and buffers, kept from one evaluation to the next
+    /// and shared with the gradient's mesh adjoint (the same grid topology).
+    mesh::MoveWorkspace& moveWorkspace() { return moveWorkspace_; }
 
 private:
     struct Baseline;
@@ -227,6 +230,7 @@ private:
     std::vector<double> caseValues_;
     std::unique_ptr<Baseline> mesh_;      // extruded baseline (and its coarser sampling)
     std::vector<double> warm_;            // last converged flow state
+    mesh::MoveWorkspace moveWorkspace_;
     Log log_;
 };
 

@@ -165,7 +165,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
         }
     }
     const std::vector<std::vector<double>> gA =
-        mesh::moveControlGridAdjoints(m.control, *history, c.mesh.elasticity, gb, &res.meshAdjoint);
+        mesh::moveControlGridAdjoints(m.control, *history, c.mesh.elasticity, gb, &res.meshAdjoint, &ev.moveWorkspace());
     if (!res.meshAdjoint.converged) {
         res.message = "the mesh adjoint did not converge: " + res.meshAdjoint.message;
         return res;

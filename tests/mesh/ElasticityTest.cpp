@@ -474,3 +474,53 @@ TEST(MeshAdjoint, ReverseSweepMatchesFiniteDifferencesOfTheMove) {
     const std::vector<double> gA1 = moveControlGridAdjoint(base, h1, one, gbar);
     EXPECT_GT(std::abs(dotProduct(gA1, dA) - fd), 1e-4 * std::abs(fd));
 }
+
+// A kept MoveWorkspace (the optimizer's evaluations, the gradient's mesh adjoint) reuses the
+// stiffness layout and its buffers: the same bits as a move without one, whatever the earlier
+// moves left in the buffers; a grid of another topology gets a layout of its own.
+TEST(Elasticity, AKeptWorkspaceGivesTheSameBitsAndIsRebuiltForAnotherGrid) {
+    const MultiBlockMesh base = extrudeToFarfield(geometry::makeHalfSphere(), extrusionLevel("coarse"));
+    auto deformed = [&](double a) {
+        std::vector<double> surface(3 * base.surfaceNode.size());
+        for (std::size_t u = 0; u < base.surfaceNode.size(); ++u) {
+            const double* p = &base.control[3 * base.surfaceNode[u]];
+            surface[3 * u] = p[0] * (1 + a * p[1]);
+            surface[3 * u + 1] = (1 + 2 * a) * p[1];
+            surface[3 * u + 2] = (1 - 1.5 * a) * p[2];
+        }
+        return surface;
+    };
+    MoveWorkspace kept;
+    MultiBlockMesh first = base;
+    ASSERT_EQ(moveControlGrid(first, deformed(0.3), ElasticityOptions{}, {}, nullptr, nullptr, &kept).status,
+              SolveStatus::Converged);
+    MultiBlockMesh fresh = base, reused = base;
+    MoveHistory hFresh, hReused;
+    const MoveReport rFresh = moveControlGrid(fresh, deformed(0.15), ElasticityOptions{}, {}, nullptr, &hFresh);
+    const MoveReport rReused = moveControlGrid(reused, deformed(0.15), ElasticityOptions{}, {}, nullptr, &hReused, &kept);
+    ASSERT_EQ(rReused.status, SolveStatus::Converged) << rReused.message;
+    EXPECT_EQ(kept.builds(), 1);
+    EXPECT_EQ(rFresh.cgIterations, rReused.cgIterations);
+    EXPECT_EQ(rFresh.residuals, rReused.residuals);
+    EXPECT_EQ(fresh.control, reused.control);
+    EXPECT_NE(fresh.control, first.control);
+    // The mesh adjoint with the forward move's workspace: the same bits as with its own layout.
+    const std::vector<double> gbar = seededVector(base.control.size(), 8);
+    MeshAdjointReport aFresh, aReused;
+    const std::vector<double> gFresh = moveControlGridAdjoint(base, hFresh, ElasticityOptions{}, gbar, &aFresh);
+    const std::vector<double> gReused = moveControlGridAdjoints(base, hReused, ElasticityOptions{}, {gbar}, &aReused, &kept).front();
+    ASSERT_TRUE(aReused.converged) << aReused.message;
+    EXPECT_EQ(aFresh.iterations, aReused.iterations);
+    EXPECT_EQ(gFresh, gReused);
+    EXPECT_EQ(kept.builds(), 1);
+    // Another topology (the box) gets its own layout, and moving it agrees with a fresh move.
+    MultiBlockMesh box = boxMesh(), boxFresh = boxMesh();
+    box.surfaceNode = {0};
+    boxFresh.surfaceNode = {0};
+    const std::vector<double> corner = {0.05, -0.02, 0.03};
+    const MoveReport rBox = moveControlGrid(box, corner, ElasticityOptions{}, {}, nullptr, nullptr, &kept);
+    const MoveReport rBoxFresh = moveControlGrid(boxFresh, corner, ElasticityOptions{});
+    EXPECT_EQ(kept.builds(), 2);
+    EXPECT_EQ(rBox.status, rBoxFresh.status);
+    EXPECT_EQ(box.control, boxFresh.control);
+}
