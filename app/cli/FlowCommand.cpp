@@ -286,6 +286,19 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["max_mach_at"] = where(fr.maxMach);
             j["max_entropy_at"] = where(fr.maxEntropy);
             j["largest_residual_at"] = where(fr.largestResidual);
+            if (fr.dissipationRetry()) {
+                // The first attempt stopped; the answer comes from a continuation in the dissipation.
+                nlohmann::ordered_json dj;
+                dj["first_attempt"] = {{"status", flow::flowStatusName(fr.failedReport.status)},
+                                       {"iterations", fr.failedReport.iterations},
+                                       {"relative_residual", fr.failedReport.finalResidual / fr.failedReport.initialResidual}};
+                for (const auto& st : fr.dissipationStages) {
+                    dj["stages"].push_back({{"factor", st.factor},
+                                            {"status", flow::flowStatusName(st.report.status)},
+                                            {"iterations", st.report.iterations}});
+                }
+                j["dissipation_continuation"] = dj;
+            }
             if (fr.modesChecked) {
                 // Why a solve did not converge: the growing modes at its final state.
                 nlohmann::ordered_json mj;

@@ -449,6 +449,53 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         q = flow::freeStreamState(f->mesh, ro.freeStream);
         f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
     }
+    const flow::FlowStatus last = f->report.status;
+    if (request.dissipationRetry && !f->warmStarted && !f->restartContinued &&
+        (last == flow::FlowStatus::Stalled || last == flow::FlowStatus::Diverged || last == flow::FlowStatus::NotANumber)) {
+        // Continuation in the dissipation (after Hicken and Zingg's dissipation-based
+        // continuation, in a few fixed steps): with kappa2 and kappa4 several times the case's the
+        // steady state is smoother and the slow pseudo-time modes that hold a creased design's
+        // solve (docs/validation.md) are damped, so the pseudo-transient path reaches it; each
+        // smaller factor starts next to its answer, and so does the case's own problem at the
+        // end, where Newton's steps converge. The answer is the case's own residual's.
+        say(format("the solve stopped (%s after %d iterations: %s): continuation in the dissipation from %g times "
+                   "the case's",
+                   flow::flowStatusName(last), f->report.iterations, f->report.message.c_str(), kDissipationSchedule[0]));
+        f->failedReport = std::move(f->report);
+        std::vector<double> failedState = std::move(q);
+        flow::NewtonOptions sno = no;
+        sno.referenceResidual = 0;  // each stage's tolerance relative to its own free-stream residual
+        bool started = false;       // a stage has converged: q is its state
+        for (double factor : kDissipationSchedule) {
+            flow::ResidualOptions stage = ro;
+            stage.dissipation.kappa2 *= factor;
+            stage.dissipation.kappa4 *= factor;
+            std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
+            FlowResult::DissipationStage ds{factor, flow::solveFlow(f->mesh, f->metrics, stage, qs, sno, onIteration(false), cancel)};
+            say(format("continuation at %g times the dissipation: %s in %d iterations", factor,
+                       flow::flowStatusName(ds.report.status), ds.report.iterations));
+            const bool ok = ds.report.converged(), cancelled = ds.report.status == flow::FlowStatus::Cancelled;
+            f->dissipationStages.push_back(std::move(ds));
+            if (cancelled) break;
+            if (ok) {
+                q = std::move(qs);
+                started = true;
+            } else if (!started) {
+                break;  // nothing to continue from
+            }
+        }
+        const flow::FlowReport& lastStage = f->dissipationStages.back().report;
+        if (lastStage.status == flow::FlowStatus::Cancelled) {
+            q = std::move(failedState);
+            f->report = lastStage;
+        } else if (started) {
+            f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+        } else {
+            // Not even the largest dissipation converged: the first attempt's state and report stand.
+            q = std::move(failedState);
+            f->report = f->failedReport;
+        }
+    }
     f->q = std::move(q);
 
     // Functionals and the fields a user checks the answer against.
@@ -504,11 +551,28 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             why += format(" (solved from the free stream after the warm start stopped: %s after %d iterations)",
                           flow::flowStatusName(f->warmReport.status), f->warmReport.iterations);
         }
+        if (f->dissipationRetry()) {
+            const FlowResult::DissipationStage& first = f->dissipationStages.front();
+            double smallest = first.factor;
+            for (const auto& ds : f->dissipationStages) smallest = ds.report.converged() ? ds.factor : smallest;
+            why += first.report.converged()
+                       ? format(" (after the first attempt stopped, %s after %d iterations, the continuation in the "
+                                "dissipation converged at %g times the case's but not at the case's own)",
+                                flow::flowStatusName(f->failedReport.status), f->failedReport.iterations, smallest)
+                       : format(" (a solve with %g times the dissipation did not converge either: %s after %d iterations)",
+                                first.factor, flow::flowStatusName(first.report.status), first.report.iterations);
+        }
         e.message = why;
     } else {
         warm_ = f->q;
     }
     e.secondsFlow = since(t);
+}
+
+int FlowResult::totalIterations() const {
+    int n = report.iterations + warmReport.iterations + failedReport.iterations;
+    for (const DissipationStage& s : dissipationStages) n += s.report.iterations;
+    return n;
 }
 
 namespace {

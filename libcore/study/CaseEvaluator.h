@@ -70,6 +70,12 @@ struct FlowStart {
     double lumping = 0;               // > 0: the preconditioner's lumping to continue with
 };
 
+/// The continuation in the dissipation that a failed cold solve is given
+/// (EvaluationRequest::dissipationRetry): solves with the case's kappa2 and kappa4 times these
+/// factors, each from the last converged one's state (the first from the free stream), then the
+/// case's own problem.
+inline constexpr std::array<double, 3> kDissipationSchedule = {4.0, 2.0, 1.4142135623730951};
+
 struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
     bool flow = true;        // run the flow stage (if the case has a flow section)
@@ -77,6 +83,9 @@ struct EvaluationRequest {
     bool coldRetry = true;   // a warm start that stalls, diverges or is not physical is solved
                              // again from the free stream (a large design step can leave the
                              // neighbour's state in the basin of another, unconverged branch)
+    bool dissipationRetry = true;  // a solve from the free stream that stalls, diverges or is not
+                                   // physical is solved again by continuation in the dissipation
+                                   // (kDissipationSchedule), ending with the case's own problem
     std::optional<bool> sequencing;  // without a warm start: first solve on half the grid
                                      // intervals (unset: the case's flow.grid_sequencing)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
@@ -142,6 +151,19 @@ struct FlowResult {
     flow::FlowReport warmReport;            // a warm start that failed and was solved again from the
                                             // free stream (EvaluationRequest::coldRetry; else empty)
     bool coldRetry() const { return warmReport.iterations > 0 || !warmReport.message.empty(); }
+    flow::FlowReport failedReport;          // a cold solve that failed and was solved again by
+                                            // continuation in the dissipation (else empty) ...
+    struct DissipationStage {
+        double factor = 1;                  // kappa2 and kappa4 times this
+        flow::FlowReport report;
+    };
+    std::vector<DissipationStage> dissipationStages;  // ... the continuation's solves, in order
+                                            // (EvaluationRequest::dissipationRetry); `report` is
+                                            // then the final solve of the case's own problem
+    bool dissipationRetry() const { return !dissipationStages.empty(); }
+    /// Iterations of every solve of the evaluation (a failed warm start, a failed first attempt,
+    /// the continuation's stages and the final solve).
+    int totalIterations() const;
     int previousIterations = 0;             // a continued restart: the iterations before this run
     int checkpoints = 0;                    // restart files written during the solve
     bool restartContinued = false;          // the restart had the same free stream: same run

@@ -617,7 +617,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         if (e->flow && e->flow->modesChecked) r.growingMode = e->flow->modes.growthRate();
         if (e->flow) {
             // A warm start solved again from the free stream (CaseEvaluator's cold retry) counts both.
-            r.flowIterations = static_cast<int>(e->flow->report.iterations + e->flow->warmReport.iterations);
+            r.flowIterations = e->flow->totalIterations();
             if (e->flow->warmStarted) {
                 ++summary.warmStarts;
                 summary.meanWarmFlowIterations += r.flowIterations;
