@@ -223,7 +223,7 @@ TEST(CaseEvaluator, RobustnessSuiteOfScaledAndRandomDesignsConverges) {
         redrawn += draw.rejected;
         designs.push_back(draw.values);
     }
-    int converged = 0;
+    int converged = 0, continued = 0;
     for (std::size_t d = 0; d < designs.size(); ++d) {
         study::EvaluationRequest cold;
         cold.warmStart = false;
@@ -235,8 +235,29 @@ TEST(CaseEvaluator, RobustnessSuiteOfScaledAndRandomDesignsConverges) {
         EXPECT_TRUE(e.ok()) << "design " << d << ": " << e.message;
         EXPECT_GE(orders, 10.0) << "design " << d;
         converged += e.ok() ? 1 : 0;
+        if (e.flow && e.flow->dissipationRetry()) {
+            // The first attempt stopped and the continuation in the dissipation took over (design 9
+            // since the element stiffness's rounding changed; which design needs it depends on
+            // round-off): every stage reported, each converged one handing its state on.
+            const study::FlowResult& f = *e.flow;
+            ++continued;
+            int iterations = f.report.iterations + f.failedReport.iterations;
+            for (std::size_t k = 0; k < f.dissipationStages.size(); ++k) {
+                EXPECT_EQ(f.dissipationStages[k].factor, study::kDissipationSchedule[k]);
+                iterations += f.dissipationStages[k].report.iterations;
+            }
+            EXPECT_EQ(f.totalIterations(), iterations);
+            EXPECT_NE(f.failedReport.status, flow::FlowStatus::Converged);
+            ASSERT_FALSE(f.report.history.empty());
+            EXPECT_LT(f.report.history.front().residual, 0.1 * f.failedReport.history.front().residual)
+                << "the final solve starts from the last stage's state, not from the free stream";
+            std::printf("design %2zu: first attempt %s after %d iterations, continuation stages %zu, %d iterations in all\n", d,
+                        flow::flowStatusName(f.failedReport.status), f.failedReport.iterations, f.dissipationStages.size(),
+                        f.totalIterations());
+        }
     }
-    std::printf("%d of %zu designs converged; %d random draws redrawn\n", converged, designs.size(), redrawn);
+    std::printf("%d of %zu designs converged (%d through the continuation in the dissipation); %d random draws redrawn\n",
+                converged, designs.size(), continued, redrawn);
 }
 
 TEST(RandomDesigns, FeasibleDrawsMeetTheCasesLinearConstraintsAndRepeatForASeed) {
