@@ -103,14 +103,11 @@ T cellVolume(const T* x) {
     return volume;
 }
 
-template <class T>
-T cellOrthogonalityOf(const T* x);
-
 // cellModulus for a cell whose volume is known (the assembly computes every volume first, for
 // their mean).
 template <class T>
 T modulusWithVolume(const T* x, T vol, T meanVolume, const ElasticityOptions& o) {
-    const T q = cellOrthogonalityOf(x);
+    const T q = cellOrthogonality(x);  // declared in the header, defined below
     T e = T(1.0);
     if (realPart(vol) > 0) e *= std::pow(meanVolume / vol, o.sizeStiffening);
     // clamp(q, 0, 1), piecewise: its derivative is q's inside and 0 outside.
@@ -151,13 +148,6 @@ void cornerScaledJacobians(const T* x, T* corners) {
 
 template <class T>
 T cellOrthogonality(const T* x) {
-    return cellOrthogonalityOf(x);
-}
-
-namespace {
-
-template <class T>
-T cellOrthogonalityOf(const T* x) {
     using std::exp;
     using std::log;
     T q[8];
@@ -168,8 +158,6 @@ T cellOrthogonalityOf(const T* x) {
     for (int a = 0; a < 8; ++a) s += exp(-kOrthogonalitySharpness * (q[a] - lowest));
     return lowest - log(s / 8.0) / kOrthogonalitySharpness;
 }
-
-}  // namespace
 
 template <class T>
 T hexBilinear(const T* x, T E, double nu, const double* a, const double* b) {
@@ -413,7 +401,8 @@ CellList listCells(const MultiBlockMesh& m) {
 }  // namespace
 
 // The structure of K_ff for one control grid's topology and constraints, in 3x3 node blocks,
-// built once per move (or mesh adjoint) and reused by every increment with its buffers: the
+// built once per move (or kept between moves by a MoveWorkspace) and reused by every increment
+// with its buffers: the
 // block rows (nodes with at least one free DOF), the block pattern, and where each corner pair of
 // each cell goes. A node with some DOFs constrained (a symmetry-plane node: u_y = 0) keeps its
 // block row; the constrained component's row and column hold the identity and a zero right-hand
