@@ -105,6 +105,7 @@ void BM_MeshAdjoint(benchmark::State& state, const char* level) {
     state.counters["converged"] = rep.converged;
 }
 BENCHMARK_CAPTURE(BM_MeshAdjoint, coarse, "coarse")->Args({1, 0})->Args({2, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_MeshAdjoint, paper, "paper")->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // N^T (the regeneration's transpose, for the grid sensitivities) against N in the same run.
 void BM_RegenerateTranspose(benchmark::State& state, const char* level) {

@@ -457,7 +457,10 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         // steady state is smoother and the slow pseudo-time modes that hold a creased design's
         // solve (docs/validation.md) are damped, so the pseudo-transient path reaches it; each
         // smaller factor starts next to its answer, and so does the case's own problem at the
-        // end, where Newton's steps converge. The answer is the case's own residual's.
+        // end, where Newton's steps converge. The answer is the case's own residual's. When the
+        // case's own problem does not converge from the 2^(1/2) stage's state, smaller steps
+        // follow (kDissipationSchedule): the 98k random design 3 of the robustness study
+        // converges through 2^(1/4) and 2^(1/8), the latter stalled but close (docs/validation.md).
         say(format("the solve stopped (%s after %d iterations: %s): continuation in the dissipation from %g times "
                    "the case's",
                    flow::flowStatusName(last), f->report.iterations, f->report.message.c_str(), kDissipationSchedule[0]));
@@ -465,32 +468,55 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         std::vector<double> failedState = std::move(q);
         flow::NewtonOptions sno = no;
         sno.referenceResidual = 0;  // each stage's tolerance relative to its own free-stream residual
-        bool started = false;       // a stage has converged: q is its state
+        bool started = false;       // a stage has converged: q is the state handed on
+        bool finished = false;      // an attempt at the case's own problem converged: f->report
+        bool cancelled = false;
         for (double factor : kDissipationSchedule) {
+            const bool own = factor == 1.0;
+            if (own && !started) break;
+            std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
+            if (own) {
+                flow::FlowReport rep = flow::solveFlow(f->mesh, f->metrics, ro, qs, no, onIteration(false), cancel, checkpoint);
+                say(format("the case's own dissipation from there: %s in %d iterations", flow::flowStatusName(rep.status),
+                           rep.iterations));
+                if (rep.converged() || rep.status == flow::FlowStatus::Cancelled) {
+                    cancelled = rep.status == flow::FlowStatus::Cancelled;
+                    finished = rep.converged();
+                    f->report = std::move(rep);
+                    if (finished) q = std::move(qs);
+                    break;
+                }
+                f->dissipationStages.push_back({factor, std::move(rep)});  // failed: the next stage starts from q
+                continue;
+            }
             flow::ResidualOptions stage = ro;
             stage.dissipation.kappa2 *= factor;
             stage.dissipation.kappa4 *= factor;
-            std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
             FlowResult::DissipationStage ds{factor, flow::solveFlow(f->mesh, f->metrics, stage, qs, sno, onIteration(false), cancel)};
             say(format("continuation at %g times the dissipation: %s in %d iterations", factor,
                        flow::flowStatusName(ds.report.status), ds.report.iterations));
-            const bool ok = ds.report.converged(), cancelled = ds.report.status == flow::FlowStatus::Cancelled;
+            const flow::FlowStatus stageStatus = ds.report.status;
             f->dissipationStages.push_back(std::move(ds));
-            if (cancelled) break;
-            if (ok) {
+            if (stageStatus == flow::FlowStatus::Cancelled) {
+                cancelled = true;
+                f->report = f->dissipationStages.back().report;
+                break;
+            }
+            const bool handsOn = stageStatus == flow::FlowStatus::Converged ||
+                                 (started && (stageStatus == flow::FlowStatus::Stalled ||
+                                              stageStatus == flow::FlowStatus::MaxIterations));
+            if (handsOn) {
                 q = std::move(qs);
                 started = true;
             } else if (!started) {
                 break;  // nothing to continue from
             }
         }
-        const flow::FlowReport& lastStage = f->dissipationStages.back().report;
-        if (lastStage.status == flow::FlowStatus::Cancelled) {
-            q = std::move(failedState);
-            f->report = lastStage;
-        } else if (started) {
+        if (cancelled) {
+            if (!finished) q = std::move(failedState);
+        } else if (!finished && started) {
             f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
-        } else {
+        } else if (!finished) {
             // Not even the largest dissipation converged: the first attempt's state and report stand.
             q = std::move(failedState);
             f->report = f->failedReport;

@@ -72,9 +72,19 @@ struct FlowStart {
 
 /// The continuation in the dissipation that a failed cold solve is given
 /// (EvaluationRequest::dissipationRetry): solves with the case's kappa2 and kappa4 times these
-/// factors, each from the last converged one's state (the first from the free stream), then the
-/// case's own problem.
-inline constexpr std::array<double, 3> kDissipationSchedule = {4.0, 2.0, 1.4142135623730951};
+/// factors in turn, the first from the free stream. A factor of 1 is an attempt at the case's own
+/// problem: when it converges, that is the answer and the continuation ends. Each stage starts
+/// from the state the stages before handed on: a stage above 1 hands on its state when it
+/// converged, or when it stalled or ran out of iterations after an earlier one converged (a stall
+/// that close to the answer is a start as good as a converged state); a failed attempt at the
+/// case's own problem, a diverged or a non-physical stage hands on nothing. After the last stage,
+/// the case's own problem is solved once more from the last state handed on. The steps below
+/// 2^(1/2) halve the excess in the exponent (2^(1/4), 2^(1/8)); they run only when the case's own
+/// problem does not converge from the 2^(1/2) stage's state (docs/validation.md: the 98k random
+/// design 3 needs them, the CI suite's design 9 does not and converges in 21 iterations from
+/// 2^(1/2), where the finer stages would cost it 200 more).
+inline constexpr std::array<double, 6> kDissipationSchedule = {4.0, 2.0, 1.4142135623730951, 1.0, 1.189207115002721,
+                                                               1.0905077326652577};
 
 struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
@@ -158,8 +168,10 @@ struct FlowResult {
         flow::FlowReport report;
     };
     std::vector<DissipationStage> dissipationStages;  // ... the continuation's solves, in order
-                                            // (EvaluationRequest::dissipationRetry); `report` is
-                                            // then the final solve of the case's own problem
+                                            // (EvaluationRequest::dissipationRetry; factor 1: an
+                                            // attempt at the case's own problem that failed);
+                                            // `report` is then the solve of the case's own problem
+                                            // that ended it
     bool dissipationRetry() const { return !dissipationStages.empty(); }
     /// Iterations of every solve of the evaluation (a failed warm start, a failed first attempt,
     /// the continuation's stages and the final solve).

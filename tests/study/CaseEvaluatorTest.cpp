@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "flow/Residual.h"
 #include "study/DesignSweep.h"
@@ -238,7 +239,8 @@ TEST(CaseEvaluator, RobustnessSuiteOfScaledAndRandomDesignsConverges) {
         if (e.flow && e.flow->dissipationRetry()) {
             // The first attempt stopped and the continuation in the dissipation took over (design 9
             // since the element stiffness's rounding changed; which design needs it depends on
-            // round-off): every stage reported, each converged one handing its state on.
+            // round-off): every stage reported, each converged (or, after one, stalled) one handing its
+            // state on.
             const study::FlowResult& f = *e.flow;
             ++continued;
             int iterations = f.report.iterations + f.failedReport.iterations;
@@ -251,9 +253,15 @@ TEST(CaseEvaluator, RobustnessSuiteOfScaledAndRandomDesignsConverges) {
             ASSERT_FALSE(f.report.history.empty());
             EXPECT_LT(f.report.history.front().residual, 0.1 * f.failedReport.history.front().residual)
                 << "the final solve starts from the last stage's state, not from the free stream";
-            std::printf("design %2zu: first attempt %s after %d iterations, continuation stages %zu, %d iterations in all\n", d,
-                        flow::flowStatusName(f.failedReport.status), f.failedReport.iterations, f.dissipationStages.size(),
-                        f.totalIterations());
+            std::string stages;
+            for (const auto& st : f.dissipationStages) {
+                char buf[96];
+                std::snprintf(buf, sizeof buf, " x%.3g %s %d,", st.factor, flow::flowStatusName(st.report.status), st.report.iterations);
+                stages += buf;
+            }
+            std::printf("design %2zu: first attempt %s after %d iterations; stages%s the case's own %d; %d iterations in all\n", d,
+                        flow::flowStatusName(f.failedReport.status), f.failedReport.iterations, stages.c_str(),
+                        f.report.iterations, f.totalIterations());
         }
     }
     std::printf("%d of %zu designs converged (%d through the continuation in the dissipation); %d random draws redrawn\n",
