@@ -512,14 +512,16 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                 break;  // nothing to continue from
             }
         }
-        if (cancelled) {
-            if (!finished) q = std::move(failedState);
-        } else if (!finished && started) {
-            f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
-        } else if (!finished) {
-            // Not even the largest dissipation converged: the first attempt's state and report stand.
-            q = std::move(failedState);
-            f->report = f->failedReport;
+        if (!finished) {
+            if (cancelled) {
+                q = std::move(failedState);
+            } else if (started) {
+                f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+            } else {
+                // Not even the largest dissipation converged: the first attempt's state and report stand.
+                q = std::move(failedState);
+                f->report = f->failedReport;
+            }
         }
     }
     f->q = std::move(q);
