@@ -191,14 +191,26 @@ T cellModulus(const T* x, T meanVolume, const ElasticityOptions& o) {
     return modulusWithVolume(x, cellVolume(x), meanVolume, o);
 }
 
-double cellModulusGradient(const double* x, double meanVolume, const ElasticityOptions& o, double* dE,
-                           double* dVolume, double* volume) {
+namespace {
+
+// The physical shape-function gradients and det J at the 8 Gauss points of one cell, computed
+// once for the modulus's derivative and every functional's bilinear-form derivative.
+struct CellGauss {
+    double G[8][8][3];  // per Gauss point: G(a, c) = dN_a / dx_c
+    double det[8];
+    explicit CellGauss(const double* x) {
+        for (int q = 0; q < 8; ++q) det[q] = gaussGradients(x, q, G[q]);
+    }
+};
+
+double modulusGradient(const double* x, const CellGauss& gauss, double meanVolume, const ElasticityOptions& o,
+                       double* dE, double* dVolume, double* volume) {
     // Volume: sum over the Gauss points of det J, d det J / dx_a,r = det J G_a,r (G = dN J^-1).
     double vol = 0;
     for (int i = 0; i < 24; ++i) dVolume[i] = 0;
     for (int qp = 0; qp < 8; ++qp) {
-        double G[8][3];
-        const double det = gaussGradients(x, qp, G);
+        const double(&G)[8][3] = gauss.G[qp];
+        const double det = gauss.det[qp];
         vol += det;
         for (int a = 0; a < 8; ++a) {
             for (int r = 0; r < 3; ++r) dVolume[3 * a + r] += det * G[a][r];
@@ -258,6 +270,15 @@ double cellModulusGradient(const double* x, double meanVolume, const ElasticityO
     return size * ortho;
 }
 
+double bilinearGradient(const CellGauss& gauss, double nu, const double* a, const double* b, double* grad);
+
+}  // namespace
+
+double cellModulusGradient(const double* x, double meanVolume, const ElasticityOptions& o, double* dE,
+                           double* dVolume, double* volume) {
+    return modulusGradient(x, CellGauss(x), meanVolume, o, dE, dVolume, volume);
+}
+
 template <class T>
 void hexStiffness(const T* x, T E, double nu, T* K) {
     const T lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
@@ -304,6 +325,12 @@ void hexStiffness(const T* x, T E, double nu, T* K) {
 }
 
 double hexBilinearGradient(const double* x, double nu, const double* a, const double* b, double* grad) {
+    return bilinearGradient(CellGauss(x), nu, a, b, grad);
+}
+
+namespace {
+
+double bilinearGradient(const CellGauss& gauss, double nu, const double* a, const double* b, double* grad) {
     // s = sum_q det J_q Phi(A_q, B_q) with A = a^T G, G = dN J^-1 (8 x 3). For coordinate r of
     // corner n: d det = det G(n, r), dG = -G e_r G_n^T, so dA = -A e_r G_n^T (and dB alike), and
     // Phi being symmetric and bilinear, d Phi = -(G_n^T (P + Q))_r with
@@ -313,9 +340,8 @@ double hexBilinearGradient(const double* x, double nu, const double* a, const do
     double sum = 0;
     for (int i = 0; i < 24; ++i) grad[i] = 0;
     for (int q = 0; q < 8; ++q) {
-        double g[8][3];
-        const double det = gaussGradients(x, q, g);
-        const Eigen::Map<const Eigen::Matrix<double, 8, 3, Eigen::RowMajor>> G(&g[0][0]);
+        const double det = gauss.det[q];
+        const Eigen::Map<const Eigen::Matrix<double, 8, 3, Eigen::RowMajor>> G(&gauss.G[q][0][0]);
         Eigen::Matrix3d A = Eigen::Matrix3d::Zero(), B = Eigen::Matrix3d::Zero();
         for (int n = 0; n < 8; ++n) {
             for (int i = 0; i < 3; ++i) {
@@ -336,6 +362,8 @@ double hexBilinearGradient(const double* x, double nu, const double* a, const do
     }
     return sum;
 }
+
+}  // namespace
 
 std::vector<double> cellStiffness(const MultiBlockMesh& m, int block, const ElasticityOptions& o, double meanVolume) {
     std::vector<double> E;
@@ -475,6 +503,7 @@ StiffnessLayout makeLayout(const MultiBlockMesh& m, CellList cellList, const std
         A.rowStart[r + 1] = static_cast<int>(A.cols.size());
     }
     A.values.resize(9 * A.cols.size());  // zeroed by every assembly
+    A.indexMirror();
     L.slot.assign(static_cast<std::size_t>(cells) * 64, -1);
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < cells; ++c) {
@@ -916,65 +945,135 @@ std::vector<double> stiffnessProductGradient(const MultiBlockMesh& m, const Elas
     return stiffnessProductGradients(m, o, {lambda}, u).front();
 }
 
+namespace {
+
+// The mesh adjoint's per-increment work arrays, kept from one increment to the next (fresh ones
+// would cost page faults on every increment on this project's VMs: ~3 ms per MB).
+struct AdjointScratch {
+    std::vector<double> dVolume;                   // 24 per cell
+    std::vector<double> dMeanOfCell;               // per cell, one per functional
+    std::vector<std::vector<double>> contribution;  // per functional, 24 per cell
+    std::vector<double> wallContribution;          // 24 per cell with a wall corner
+};
+
+// stiffnessProductGradients for the cells of `cells` (listCells order) whose mean volume is
+// `mean`, into g (one vector per lambda, overwritten).
+void stiffnessProductGradientsInto(const MultiBlockMesh& m, const CellList& cellList, double mean,
+                                   const ElasticityOptions& o, const std::vector<std::vector<double>>& lambdas,
+                                   const std::vector<double>& u, AdjointScratch& w,
+                                   std::vector<std::vector<double>>& g) {
+    // K_e = E(x, mean) K1_e(x) with K1 the stiffness of unit modulus, so for s = lambda^T K u
+    //   ds/dx = E ds1/dx + s1 dE/dx,   ds/dmean = s1 dE/dmean = s1 E size_stiffening / mean,
+    // and d mean/dx = (1/N) d vol/dx. dE/dx, d vol/dx and the Gauss points' gradients are shared
+    // by all lambdas.
+    const long cells = cellList.count();
+    const std::size_t nl = lambdas.size();
+    const int* cellNodes = cellList.nodes.data();
+    w.dVolume.resize(24 * static_cast<std::size_t>(cells));
+    w.dMeanOfCell.resize(nl * static_cast<std::size_t>(cells));
+    w.contribution.resize(nl);
+    for (std::vector<double>& c : w.contribution) c.resize(24 * static_cast<std::size_t>(cells));
+#pragma omp parallel for schedule(dynamic, 64)
+    for (long cell = 0; cell < cells; ++cell) {
+        const int* nodes = cellNodes + 8 * cell;
+        double x[24], ue[24];
+        for (int r = 0; r < 24; ++r) {
+            const std::size_t dof = 3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3;
+            x[r] = m.control[dof];
+            ue[r] = u[dof];
+        }
+        const CellGauss gauss(x);
+        double dE[24];
+        double* dv = &w.dVolume[24 * static_cast<std::size_t>(cell)];
+        double vol0 = 0;
+        const double E = modulusGradient(x, gauss, mean, o, dE, dv, &vol0);
+        for (std::size_t p = 0; p < nl; ++p) {
+            double le[24];
+            bool active = false;
+            for (int r = 0; r < 24; ++r) {
+                le[r] = lambdas[p][3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3];
+                active = active || le[r] != 0;
+            }
+            double* part = &w.contribution[p][24 * static_cast<std::size_t>(cell)];
+            double s1 = 0;
+            if (active) {
+                double ds1[24];
+                s1 = bilinearGradient(gauss, o.poisson, le, ue, ds1);
+                for (int i = 0; i < 24; ++i) part[i] = E * ds1[i] + s1 * dE[i];
+            } else {
+                for (int i = 0; i < 24; ++i) part[i] = 0;
+            }
+            w.dMeanOfCell[nl * cell + p] = (vol0 > 0 && o.sizeStiffening != 0) ? s1 * E * o.sizeStiffening / mean : 0.0;
+        }
+    }
+    // The cells' contributions added in cell order (the same bits on any number of threads).
+    g.resize(nl);
+    for (std::size_t p = 0; p < nl; ++p) {
+        g[p].assign(m.control.size(), 0.0);
+        const double* part = w.contribution[p].data();
+        for (long cell = 0; cell < cells; ++cell) {
+            for (int r = 0; r < 24; ++r) {
+                g[p][3 * static_cast<std::size_t>(cellNodes[8 * cell + r / 3]) + r % 3] += part[24 * cell + r];
+            }
+        }
+        double dMean = 0;
+        for (long cell = 0; cell < cells; ++cell) dMean += w.dMeanOfCell[nl * cell + p];
+        if (dMean == 0) continue;
+        const double weight = dMean / static_cast<double>(std::max(1L, cells));
+        for (long cell = 0; cell < cells; ++cell) {
+            for (int i = 0; i < 24; ++i) {
+                g[p][3 * static_cast<std::size_t>(cellNodes[8 * cell + i / 3]) + i % 3] +=
+                    weight * w.dVolume[24 * static_cast<std::size_t>(cell) + i];
+            }
+        }
+    }
+}
+
+// (K lambda) at the DOFs of the wall nodes (flagged in wallNode), into out (its other entries are
+// left alone), from the cells with a wall corner (wallCells, in cell order: each entry is summed
+// as over all cells); mean: the cells' mean volume. work: 24 values per wall cell.
+void wallStiffnessProduct(const MultiBlockMesh& grid, const CellList& cells, const std::vector<long>& wallCells,
+                          const std::vector<char>& wallNode, double mean, const ElasticityOptions& o,
+                          const std::vector<double>& lambda, std::vector<double>& work, std::vector<double>& out) {
+    const long count = static_cast<long>(wallCells.size());
+    work.resize(24 * wallCells.size());
+#pragma omp parallel for schedule(static)
+    for (long t = 0; t < count; ++t) {
+        const int* nodes = &cells.nodes[8 * wallCells[t]];
+        double x[24], le[24];
+        for (int r = 0; r < 24; ++r) {
+            const std::size_t dof = 3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3;
+            x[r] = grid.control[dof];
+            le[r] = lambda[dof];
+        }
+        double K[24 * 24];
+        hexStiffness<double>(x, cellModulus(x, mean, o), o.poisson, K);
+        for (int r = 0; r < 24; ++r) {
+            double sum = 0;
+            for (int c = 0; c < 24; ++c) sum += K[24 * r + c] * le[c];
+            work[24 * t + r] = sum;
+        }
+    }
+    for (std::size_t n = 0; n < wallNode.size(); ++n) {
+        if (!wallNode[n]) continue;
+        for (int c = 0; c < 3; ++c) out[3 * n + c] = 0;
+    }
+    for (long t = 0; t < count; ++t) {
+        const int* nodes = &cells.nodes[8 * wallCells[t]];
+        for (int r = 0; r < 24; ++r) {
+            if (wallNode[nodes[r / 3]]) out[3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3] += work[24 * t + r];
+        }
+    }
+}
+
+}  // namespace
+
 std::vector<std::vector<double>> stiffnessProductGradients(const MultiBlockMesh& m, const ElasticityOptions& o,
                                                            const std::vector<std::vector<double>>& lambdas,
                                                            const std::vector<double>& u) {
-    // K_e = E(x, mean) K1_e(x) with K1 the stiffness of unit modulus, so for s = lambda^T K u
-    //   ds/dx = E ds1/dx + s1 dE/dx,   ds/dmean = s1 dE/dmean = s1 E size_stiffening / mean,
-    // and d mean/dx = (1/N) d vol/dx. dE/dx and d vol/dx are shared by all lambdas.
-    const long cells = cellCount(m);
-    const double mean = meanCellVolume(m);
-    const std::size_t nl = lambdas.size();
-    std::vector<std::vector<double>> g(nl, std::vector<double>(m.control.size(), 0.0));
-    std::vector<double> dMeanOfCell(nl * static_cast<std::size_t>(cells), 0.0);
-    std::vector<double> dVol(24 * static_cast<std::size_t>(cells), 0.0);
-    std::vector<CellContributions> parts(nl, CellContributions(cells));
-    forEachCellParallel(m, [&](const double* x, const int* nodes, long cell) {
-        for (std::size_t p = 0; p < nl; ++p) parts[p].setNodes(cell, nodes);
-        double ue[24];
-        std::vector<std::array<double, 24>> le(nl);
-        std::vector<char> active(nl, 0);
-        for (int r = 0; r < 24; ++r) {
-            const std::size_t dof = 3 * static_cast<std::size_t>(nodes[r / 3]) + r % 3;
-            ue[r] = u[dof];
-            for (std::size_t p = 0; p < nl; ++p) {
-                le[p][r] = lambdas[p][dof];
-                active[p] = active[p] || le[p][r] != 0;
-            }
-        }
-        double dE[24];
-        double* dv = &dVol[24 * static_cast<std::size_t>(cell)];
-        double vol0 = 0;
-        const double E = cellModulusGradient(x, mean, o, dE, dv, &vol0);
-        std::vector<double> s1(nl, 0.0);
-        std::vector<std::array<double, 24>> ds1(nl);
-        for (std::size_t p = 0; p < nl; ++p) {
-            if (active[p]) s1[p] = hexBilinearGradient(x, o.poisson, le[p].data(), ue, ds1[p].data());
-        }
-        for (int i = 0; i < 24; ++i) {
-            for (std::size_t p = 0; p < nl; ++p) {
-                if (active[p]) parts[p].of(cell)[i] = E * ds1[p][i] + s1[p] * dE[i];
-            }
-        }
-        if (vol0 > 0 && o.sizeStiffening != 0) {
-            for (std::size_t p = 0; p < nl; ++p) dMeanOfCell[nl * cell + p] = s1[p] * E * o.sizeStiffening / mean;
-        }
-    });
-    std::vector<double> dMean(nl, 0.0);
-    for (std::size_t p = 0; p < nl; ++p) {
-        parts[p].addTo(g[p]);
-        for (long cell = 0; cell < cells; ++cell) dMean[p] += dMeanOfCell[nl * cell + p];
-    }
-    for (std::size_t p = 0; p < nl; ++p) {
-        if (dMean[p] == 0) continue;
-        const double w = dMean[p] / static_cast<double>(std::max(1L, cells));
-        const std::vector<int>& nodes = parts[p].nodes;
-        for (long cell = 0; cell < cells; ++cell) {
-            for (int i = 0; i < 24; ++i) {
-                g[p][3 * static_cast<std::size_t>(nodes[8 * cell + i / 3]) + i % 3] += w * dVol[24 * static_cast<std::size_t>(cell) + i];
-            }
-        }
-    }
+    AdjointScratch w;
+    std::vector<std::vector<double>> g;
+    stiffnessProductGradientsInto(m, listCells(m), meanCellVolume(m), o, lambdas, u, w, g);
     return g;
 }
 
@@ -1016,6 +1115,20 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
     StiffnessLayout& layout = (workspace ? *workspace : local).layoutFor(m, constrained);
     MultiBlockMesh grid = m;  // structure; the control points of each increment from the history
     const std::vector<double> zero(ndof, 0.0);
+    // K lambda is needed at the wall's DOFs only: from the cells with a wall corner (in cell
+    // order, so each wall entry is summed as over all cells).
+    const CellList& cells = layout.cells;
+    std::vector<char> wallNode(ndof / 3, 0);
+    for (int n : m.surfaceNode) wallNode[n] = 1;
+    std::vector<long> wallCells;
+    for (long c = 0; c < cells.count(); ++c) {
+        bool wall = false;
+        for (int a = 0; a < 8; ++a) wall = wall || wallNode[cells.nodes[8 * c + a]];
+        if (wall) wallCells.push_back(c);
+    }
+    AdjointScratch scratch;
+    std::vector<double> Kl(ndof, 0.0);
+    std::vector<std::vector<double>> gK;
     std::vector<std::vector<std::vector<double>>> earlier(nr);  // per functional: its solutions so far
     for (int inc = increments; inc >= 1 && rep.converged; --inc) {
         grid.control = history.before[inc - 1];
@@ -1051,7 +1164,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
             for (std::size_t d = 0; d < ndof; ++d) {
                 if (layout.freeIndex[d] >= 0) lambdas[p][d] = sol[layout.freeIndex[d]];
             }
-            const std::vector<double> Kl = stiffnessProduct(grid, o, lambdas[p]);
+            wallStiffnessProduct(grid, cells, wallCells, wallNode, s.meanVolume, o, lambdas[p], scratch.wallContribution, Kl);
             for (std::size_t sn = 0; sn < m.surfaceNode.size(); ++sn) {
                 for (int c = 0; c < 3; ++c) {
                     const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[sn]) + c;
@@ -1060,7 +1173,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
             }
         }
         if (!rep.converged) break;
-        const std::vector<std::vector<double>> gK = stiffnessProductGradients(grid, o, lambdas, u);
+        stiffnessProductGradientsInto(grid, cells, s.meanVolume, o, lambdas, u, scratch, gK);
         for (std::size_t p = 0; p < nr; ++p) {
             for (std::size_t d = 0; d < ndof; ++d) gb[p][d] -= gK[p][d];
         }
