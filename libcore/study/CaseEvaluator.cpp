@@ -5,7 +5,6 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
-#include <iterator>
 
 #include "common/Error.h"
 #include "common/Format.h"
@@ -472,9 +471,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         bool started = false;       // a stage has converged: q is the state handed on
         bool finished = false;      // an attempt at the case's own problem converged: f->report
         bool cancelled = false;
-        std::vector<double> schedule(kDissipationSchedule.begin(), kDissipationSchedule.end());
-        for (std::size_t k = 0; k < schedule.size(); ++k) {
-            const double factor = schedule[k];
+        for (double factor : kDissipationSchedule) {
             const bool own = factor == 1.0;
             if (own && !started) break;
             std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
@@ -512,11 +509,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                 q = std::move(qs);
                 started = true;
             } else if (!started) {
-                // Nothing converged yet (kLargestDissipationFactor): twice the factor from the
-                // free stream, then back to this one from its state.
-                if (2 * factor > kLargestDissipationFactor) break;  // nothing to continue from
-                const double back[] = {2 * factor, factor};
-                schedule.insert(schedule.begin() + static_cast<std::ptrdiff_t>(k) + 1, std::begin(back), std::end(back));
+                break;  // nothing to continue from
             }
         }
         if (!finished) {

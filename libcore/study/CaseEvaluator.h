@@ -85,11 +85,6 @@ struct FlowStart {
 /// 2^(1/2), where the finer stages would cost it 200 more).
 inline constexpr std::array<double, 6> kDissipationSchedule = {4.0, 2.0, 1.4142135623730951, 1.0, 1.189207115002721,
                                                                1.0905077326652577};
-/// When the first stage does not converge from the free stream, twice its factor is tried from
-/// the free stream and, once one converges, the factors are halved back to the schedule's first
-/// (4 fails: 8; 8 fails: 16, then 8 and 4 from its state), up to this factor. The 98k random
-/// design 5 of the robustness study stalls at 4 and 8 times (docs/validation.md).
-inline constexpr double kLargestDissipationFactor = 32.0;
 
 struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
