@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 
 namespace aero::mesh {
 
@@ -90,38 +89,13 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 }  // namespace
 
 void Block3Matrix::mult(const double* x, double* y) const {
-    const bool mirrored = mirror.size() == cols.size();
 #pragma omp parallel for schedule(static)
     for (int r = 0; r < rows; ++r) {
         double acc[3] = {0, 0, 0};
-        int t = rowStart[r];
-        if (mirrored) {
-            // A(r, c) = A(c, r)^T for c < r: y -= A(c, r)^T x is the same arithmetic in the same order.
-            for (; t < rowStart[r + 1] && cols[t] < r; ++t) {
-                subtractAtx(&values[9 * static_cast<std::size_t>(mirror[t])], x + 3 * static_cast<std::size_t>(cols[t]), acc);
-            }
-        }
-        for (; t < rowStart[r + 1]; ++t) subtractAx(&values[9 * static_cast<std::size_t>(t)], x + 3 * static_cast<std::size_t>(cols[t]), acc);
+        for (int t = rowStart[r]; t < rowStart[r + 1]; ++t) subtractAx(&values[9 * static_cast<std::size_t>(t)], x + 3 * static_cast<std::size_t>(cols[t]), acc);
         y[3 * static_cast<std::size_t>(r)] = -acc[0];
         y[3 * static_cast<std::size_t>(r) + 1] = -acc[1];
         y[3 * static_cast<std::size_t>(r) + 2] = -acc[2];
-    }
-}
-
-void Block3Matrix::indexMirror() {
-    // Row by row, the blocks (r, c) with c > r are met in increasing r for each column c: the
-    // next unfilled entry left of the diagonal in row c is (c, r).
-    mirror.assign(cols.size(), -1);
-    std::vector<int> next(rowStart.begin(), rowStart.end() - 1);
-    for (int r = 0; r < rows; ++r) {
-        for (int t = rowStart[r]; t < rowStart[r + 1]; ++t) {
-            const int c = cols[t];
-            if (c <= r) continue;
-            const int u = next[c]++;
-            if (u >= rowStart[c + 1] || cols[u] != r) throw std::logic_error("Block3Matrix::indexMirror: the pattern is not symmetric");
-            mirror[t] = u;
-            mirror[u] = t;
-        }
     }
 }
 
@@ -139,7 +113,6 @@ Block3Matrix makeBlock3Pattern(std::vector<std::vector<int>> columns) {
     A.cols.reserve(A.rowStart[A.rows]);
     for (const auto& c : columns) A.cols.insert(A.cols.end(), c.begin(), c.end());
     A.values.assign(9 * A.cols.size(), 0.0);
-    A.indexMirror();
     return A;
 }
 

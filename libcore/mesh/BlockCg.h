@@ -21,17 +21,10 @@ struct Block3Matrix {
     std::vector<int> rowStart;   // rows + 1
     std::vector<int> cols;       // block column of each stored block
     std::vector<double> values;  // 9 per stored block
-    std::vector<int> mirror;     // per stored block (r, c): where block (c, r) is (indexMirror)
 
     int blockCount() const { return static_cast<int>(cols.size()); }
-    /// y = A x (3 * rows values each); rows in parallel, each row's sum in column order. With the
-    /// mirror index, a block left of the diagonal is read as the transpose of its mirror, which a
-    /// row above has just read: the lower triangle's values (half of A) are not streamed from
-    /// memory again. The same bits as reading them, the values being symmetric to the bit (the
-    /// assembly adds each pair's two blocks in the same order).
+    /// y = A x (3 * rows values each); rows in parallel, each row's sum in column order.
     void mult(const double* x, double* y) const;
-    /// Fills `mirror` from the pattern (which must be symmetric).
-    void indexMirror();
 };
 
 /// Builds the pattern (zero values) from per-row block column lists (unsorted, duplicates

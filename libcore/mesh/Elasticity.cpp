@@ -503,7 +503,6 @@ StiffnessLayout makeLayout(const MultiBlockMesh& m, CellList cellList, const std
         A.rowStart[r + 1] = static_cast<int>(A.cols.size());
     }
     A.values.resize(9 * A.cols.size());  // zeroed by every assembly
-    A.indexMirror();
     L.slot.assign(static_cast<std::size_t>(cells) * 64, -1);
 #pragma omp parallel for schedule(static)
     for (long c = 0; c < cells; ++c) {

@@ -5,7 +5,6 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <random>
-#include <stdexcept>
 
 #if defined(_OPENMP)
 #include <omp.h>
@@ -115,29 +114,6 @@ TEST(BlockCg, ProductMatchesTheDenseMatrix) {
     const Eigen::VectorXd ref = dense(A) * Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
     for (std::size_t i = 0; i < y.size(); ++i) EXPECT_NEAR(y[i], ref[i], 1e-13 * ref.norm());
     EXPECT_LT((dense(A) - dense(A).transpose()).norm(), 1e-15);
-}
-
-TEST(BlockCg, ProductReadsTheLowerTriangleFromTheMirrorWithTheSameBits) {
-    Block3Matrix A = testMatrix(5, false);
-    ASSERT_EQ(A.mirror.size(), A.cols.size());
-    for (int r = 0; r < A.rows; ++r) {
-        for (int t = A.rowStart[r]; t < A.rowStart[r + 1]; ++t) {
-            if (A.cols[t] == r) continue;
-            const int u = A.mirror[t];
-            ASSERT_GE(u, A.rowStart[A.cols[t]]);
-            ASSERT_LT(u, A.rowStart[A.cols[t] + 1]);
-            EXPECT_EQ(A.cols[u], r);
-            EXPECT_EQ(A.mirror[u], t);
-        }
-    }
-    const std::vector<double> x = randomVector(3 * A.rows, 3);
-    std::vector<double> mirrored(x.size()), plain(x.size());
-    A.mult(x.data(), mirrored.data());
-    A.mirror.clear();  // the product reading every stored block
-    A.mult(x.data(), plain.data());
-    EXPECT_EQ(mirrored, plain);
-    // A pattern that is not symmetric is refused (row 0 has block (0, 1), row 1 not (1, 0)).
-    EXPECT_THROW(makeBlock3Pattern({{1}, {}}), std::logic_error);
 }
 
 TEST(BlockCg, IncompleteFactorizationIsExactWithoutFill) {
