@@ -168,6 +168,8 @@ struct FlowReport {
     int switchedAt = 0;           // the first iteration with the case's own pressure switch after
                                   // a switch continuation (0: none, or none needed)
     bool converged() const { return status == FlowStatus::Converged; }
+    /// finalResidual / initialResidual (0 before a first residual).
+    double relativeResidual() const { return initialResidual > 0 ? finalResidual / initialResidual : 0.0; }
 };
 
 /// The pseudo-transient continuation's CFL law: CFL = base max(1, (R0 / R)^beta), capped at

@@ -477,8 +477,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
             if (own) {
                 flow::FlowReport rep = flow::solveFlow(f->mesh, f->metrics, ro, qs, no, onIteration(false), cancel, checkpoint);
-                say(format("the case's own dissipation from there: %s in %d iterations", flow::flowStatusName(rep.status),
-                           rep.iterations));
+                say(format("the case's own dissipation from there: %s in %d iterations (relative residual %.2e)",
+                           flow::flowStatusName(rep.status), rep.iterations, rep.relativeResidual()));
                 if (rep.converged() || rep.status == flow::FlowStatus::Cancelled) {
                     cancelled = rep.status == flow::FlowStatus::Cancelled;
                     finished = rep.converged();
@@ -493,8 +493,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             stage.dissipation.kappa2 *= factor;
             stage.dissipation.kappa4 *= factor;
             FlowResult::DissipationStage ds{factor, flow::solveFlow(f->mesh, f->metrics, stage, qs, sno, onIteration(false), cancel)};
-            say(format("continuation at %g times the dissipation: %s in %d iterations", factor,
-                       flow::flowStatusName(ds.report.status), ds.report.iterations));
+            say(format("continuation at %g times the dissipation: %s in %d iterations (relative residual %.2e)", factor,
+                       flow::flowStatusName(ds.report.status), ds.report.iterations,
+                       ds.report.relativeResidual()));
             const flow::FlowStatus stageStatus = ds.report.status;
             f->dissipationStages.push_back(std::move(ds));
             if (stageStatus == flow::FlowStatus::Cancelled) {

@@ -589,6 +589,44 @@ TEST(Cli, FlowWarnsAboutASpacingJumpBeforeTheSolve) {
     EXPECT_NEAR(nlohmann::json::parse(r.out)["largest_spacing_jump"].get<double>(), 30.46, 0.05);
 }
 
+// A solve that stalls is solved again by continuation in the dissipation, and `flow` reports
+// every attempt: on stderr as it goes, in the JSON under dissipation_continuation with each
+// attempt's status, iterations and relative residual. Here no attempt can converge (a tolerance
+// below round-off, 3 iterations without progress count as a stall): the first attempt and the
+// 4x stage stall, nothing is handed on, and the run fails with the first attempt's result.
+TEST(Cli, FlowReportsEveryAttemptOfTheContinuationInTheDissipation) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/bwb_flow.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["flow"]["tolerance"] = 1e-15;
+    c["flow"]["stall_iterations"] = 3;
+    c["flow"]["stall_modes"] = false;
+    c["output"] = nlohmann::json::object();
+    const std::string path = tmp("flow_continuation.json");
+    std::ofstream(path) << c.dump(1);
+    const Result r = run("flow '" + path + "' --json");
+    ASSERT_EQ(r.code, 1) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["status"], "stalled");
+    ASSERT_TRUE(j.contains("dissipation_continuation")) << r.out;
+    const auto& d = j["dissipation_continuation"];
+    EXPECT_EQ(d["first_attempt"]["status"], "stalled");
+    const double firstRelative = d["first_attempt"]["relative_residual"].get<double>();
+    EXPECT_GT(firstRelative, 0.0);
+    EXPECT_LT(firstRelative, 1e-9);  // down to round-off, then no progress
+    ASSERT_EQ(d["stages"].size(), 1u) << d.dump();  // nothing converged to continue from
+    EXPECT_EQ(d["stages"][0]["factor"], 4.0);
+    EXPECT_EQ(d["stages"][0]["status"], "stalled");
+    EXPECT_GT(d["stages"][0]["iterations"].get<int>(), 3);
+    EXPECT_GT(d["stages"][0]["relative_residual"].get<double>(), 0.0);
+    EXPECT_LT(d["stages"][0]["relative_residual"].get<double>(), 1e-9);
+    // The answer is the first attempt's.
+    EXPECT_EQ(j["newton_iterations"], d["first_attempt"]["iterations"]);
+    EXPECT_NE(r.err.find("continuation in the dissipation from 4 times"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("continuation at 4 times the dissipation: stalled in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(relative residual "), std::string::npos) << r.err;
+}
+
 // aeroform-cli sweep on the blended-wing sample at CI size (refine 0.3, 4,320 nodes): the case's
 // design and one random design converge, the CSV has a row per design with the counts; --no-flow
 // checks shapes and grids only; bad options are usage errors.
