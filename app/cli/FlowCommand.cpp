@@ -61,7 +61,8 @@ const char* kFlowHelp =
     "                  newton_iterations, linear_iterations, CL, CD, CM, seconds, grid_nodes,\n"
     "                  peak_memory_mb, stall_modes for a solve that did not converge,\n"
     "                  dissipation_continuation: the first attempt and every stage of a\n"
-    "                  continuation, each with status, iterations, relative_residual, ...)\n"
+    "                  continuation, each with status, iterations and relative_residual\n"
+    "                  (its final residual over its start's), ...)\n"
     "  --help          this text\n";
 
 std::atomic<bool> gCancel{false};

@@ -467,7 +467,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         f->failedReport = std::move(f->report);
         std::vector<double> failedState = std::move(q);
         flow::NewtonOptions sno = no;
-        sno.referenceResidual = 0;  // each stage's tolerance relative to its own free-stream residual
+        // Each stage's tolerance (and relative residual) refers to its own start: the free stream
+        // or the state handed on.
+        sno.referenceResidual = 0;
         bool started = false;       // a stage has converged: q is the state handed on
         bool finished = false;      // an attempt at the case's own problem converged: f->report
         bool cancelled = false;
