@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "common/Error.h"
@@ -70,6 +72,7 @@ public:
             fail("refers to #" + std::to_string(first->id) + ", which the file does not define" +
                  (dangling > 1 ? " (" + std::to_string(dangling) + " such references in the file)" : ""));
         }
+        checkCycles();
     }
 
 private:
@@ -78,6 +81,75 @@ private:
         std::uint64_t from;
         long line;
     };
+    struct Definition {
+        std::uint64_t id;
+        long line;
+    };
+
+    // The data entities' references form a hierarchy (a face refers to its loops, a loop to its
+    // edges, an edge to its vertices): a cycle (an oriented edge whose edge element is itself,
+    // found by fuzz_step) makes OpenCASCADE's reader recurse along it until the stack overflows.
+    // A depth-first search without recursion (files have millions of entities), from each entity
+    // in the order the file defines them, so the cycle named is the same every time.
+    void checkCycles() {
+        const std::size_t n = definitions_.size();
+        std::unordered_map<std::uint64_t, std::uint32_t> index;
+        index.reserve(n);
+        for (std::size_t v = 0; v < n; ++v) index.emplace(definitions_[v].id, static_cast<std::uint32_t>(v));
+        std::vector<std::uint32_t> start(n + 1, 0), target;
+        for (const Reference& r : refs_) {
+            if (r.from) ++start[index.at(r.from) + 1];
+        }
+        for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+        target.resize(start[n]);
+        {
+            std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+            for (const Reference& r : refs_) {
+                if (r.from) target[next[index.at(r.from)]++] = index.at(r.id);
+            }
+        }
+        std::vector<char> state(n, 0);  // 0 not seen, 1 on the current path, 2 done
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> path;  // entity, its next reference
+        for (std::uint32_t root = 0; root < n; ++root) {
+            if (state[root]) continue;
+            state[root] = 1;
+            path.push_back({root, start[root]});
+            while (!path.empty()) {
+                auto& [v, e] = path.back();
+                if (e == start[v + 1]) {
+                    state[v] = 2;
+                    path.pop_back();
+                    continue;
+                }
+                const std::uint32_t w = target[e++];
+                if (state[w] == 2) continue;
+                if (state[w] == 0) {
+                    state[w] = 1;
+                    path.push_back({w, start[w]});
+                    continue;
+                }
+                // w is on the path: the cycle runs from it to v and back.
+                std::size_t from = path.size() - 1;
+                while (path[from].first != w) --from;
+                std::string chain;
+                const std::size_t length = path.size() - from;
+                for (std::size_t k = from; k < path.size(); ++k) {
+                    if (length > 8 && k == from + 4) {
+                        chain += " -> ... (" + std::to_string(length - 6) + " more)";
+                        k = path.size() - 3;
+                        continue;
+                    }
+                    chain += (chain.empty() ? "#" : " -> #") + std::to_string(definitions_[path[k].first].id);
+                }
+                chain += " -> #" + std::to_string(definitions_[w].id);
+                line_ = definitions_[w].line;
+                entity_ = definitions_[w].id;
+                fail(length == 1 ? "refers to itself (" + chain + "); entity references must not form a cycle"
+                                 : "is part of a cycle of references (" + chain +
+                                       "); entity references must not form a cycle");
+            }
+        }
+    }
 
     [[noreturn]] void fail(const std::string& why) const {
         std::string where = "STEP file '" + path_ + "', line " + std::to_string(line_);
@@ -332,6 +404,7 @@ private:
         while (tok_ == Tok::EntityName) {
             entity_ = id_;
             if (!defined_.insert(id_).second) fail("is defined twice");
+            definitions_.push_back({id_, line_});
             next();
             expect(Tok::Equals, "after the entity name");
             if (tok_ == Tok::Open) {
@@ -367,6 +440,7 @@ private:
     std::uint64_t entity_ = 0;  // the data entity being read (0: none)
     std::unordered_set<std::uint64_t> defined_;
     std::vector<Reference> refs_;
+    std::vector<Definition> definitions_;  // in the order the file defines them
 };
 
 }  // namespace

@@ -52,11 +52,31 @@ double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double*
     partial.assign(static_cast<std::size_t>(chunks * width), 0.0);
     std::vector<double> g(width), total(k, 0.0);
     // The dot products, and ||w||^2 before the pass.
+    // Four dot products at a time: each is still one sum in index order (the same bits), but the
+    // four chains of additions overlap instead of each waiting for the last addition (a single
+    // chain is limited by the adder's latency, not by memory), and w is read once for four.
     auto project = [&] {
 #pragma omp parallel for schedule(static)
         for (long c = 0; c < chunks; ++c) {
             const long first = c * kChunk, end = std::min(n, first + kChunk);
-            for (int i = 0; i < k; ++i) {
+            int i = 0;
+            for (; i + 4 <= k; i += 4) {
+                const B *v0 = V[i], *v1 = V[i + 1], *v2 = V[i + 2], *v3 = V[i + 3];
+                double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+                for (long l = first; l < end; ++l) {
+                    const double wl = w[l];
+                    s0 += static_cast<double>(v0[l]) * wl;
+                    s1 += static_cast<double>(v1[l]) * wl;
+                    s2 += static_cast<double>(v2[l]) * wl;
+                    s3 += static_cast<double>(v3[l]) * wl;
+                }
+                double* out = &partial[static_cast<std::size_t>(c * width + i)];
+                out[0] = s0;
+                out[1] = s1;
+                out[2] = s2;
+                out[3] = s3;
+            }
+            for (; i < k; ++i) {
                 const B* v = V[i];
                 double s = 0;
                 for (long l = first; l < end; ++l) s += static_cast<double>(v[l]) * w[l];
@@ -68,12 +88,26 @@ double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double*
         }
         sumChunks(partial, chunks, width, g.data());
     };
-    // w -= V g, and ||w||^2 after.
+    // w -= V g, and ||w||^2 after. Four vectors at a time, each value of w subtracted from in
+    // the same order as one vector at a time (the same bits), kept in a register meanwhile.
     auto subtract = [&] {
 #pragma omp parallel for schedule(static)
         for (long c = 0; c < chunks; ++c) {
             const long first = c * kChunk, end = std::min(n, first + kChunk);
-            for (int i = 0; i < k; ++i) {
+            int i = 0;
+            for (; i + 4 <= k; i += 4) {
+                const B *v0 = V[i], *v1 = V[i + 1], *v2 = V[i + 2], *v3 = V[i + 3];
+                const double g0 = g[i], g1 = g[i + 1], g2 = g[i + 2], g3 = g[i + 3];
+                for (long l = first; l < end; ++l) {
+                    double x = w[l];
+                    x -= g0 * static_cast<double>(v0[l]);
+                    x -= g1 * static_cast<double>(v1[l]);
+                    x -= g2 * static_cast<double>(v2[l]);
+                    x -= g3 * static_cast<double>(v3[l]);
+                    w[l] = x;
+                }
+            }
+            for (; i < k; ++i) {
                 const B* v = V[i];
                 const double gi = g[i];
                 for (long l = first; l < end; ++l) w[l] -= gi * static_cast<double>(v[l]);

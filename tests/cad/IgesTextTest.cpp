@@ -506,6 +506,28 @@ TEST(IgesText, ALineLongerThan80ColumnsIsRefused) {
     EXPECT_EQ(readIges(path).size(), 1);
 }
 
+// Found by fuzz_iges (tests/fuzz), 2026-12-05: the global section's first line broken in two
+// short lines (no section letter in column 73) was read differently by OpenCASCADE, which then
+// crashed in IGESGeom_BSplineSurface::Init (a segmentation fault of `aeroform-cli info`).
+// Refused, naming the line; blank lines stay harmless.
+TEST(IgesText, ALineShorterThan73ColumnsIsRefused) {
+    const std::string path = outputPath("hand_short_line.igs");
+    std::string text = trimmedWing().text();
+    const std::size_t at = text.find("4Hhand");
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at, "\n");
+    writeText(path, text);
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("line 2 is " + std::to_string(at - text.find('\n') - 1) + " columns long: IGES records are 80 columns"),
+              std::string::npos)
+        << m;
+    std::string blank = trimmedWing().text();
+    blank.insert(blank.find('\n') + 1, "\n   \n");
+    writeText(path, blank);
+    EXPECT_EQ(readIges(path).size(), 1);
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()

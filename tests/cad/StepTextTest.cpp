@@ -111,5 +111,25 @@ TEST(StepText, DeepNestingIsRefusedWithoutExhaustingTheStack) {
     EXPECT_NO_THROW(checkExchangeStructure(fine, "fine.stp"));
 }
 
+// Found by fuzz_step, 2026-12-05: an oriented edge that is its own edge element made
+// OpenCASCADE's reader recurse (EdgeStart / EdgeEnd) until the stack overflowed, a segmentation
+// fault of `aeroform-cli info`. References must not form a cycle: refused, naming the cycle.
+TEST(StepText, ACycleOfReferencesIsRefusedNamingIt) {
+    EXPECT_NE(failure(kHead + "#1 = VERTEX_POINT('',#2);\n#2 = CARTESIAN_POINT('',(0.,0.,0.));\n"
+                              "#84 = ORIENTED_EDGE('',*,*,#84,.F.);\n" + kTail)
+                  .find("line 10, entity #84: refers to itself (#84 -> #84)"),
+              std::string::npos)
+        << failure(kHead + "#84 = ORIENTED_EDGE('',*,*,#84,.F.);\n" + kTail);
+    const std::string m = failure(kHead + "#1 = A(#2,#4);\n#2 = B(#3);\n#3 = C((#5,#1));\n#4 = D(1);\n#5 = E(2);\n" + kTail);
+    EXPECT_NE(m.find("entity #1: is part of a cycle of references (#1 -> #2 -> #3 -> #1)"), std::string::npos) << m;
+    // A long cycle is named by its ends.
+    std::string ring;
+    for (int i = 1; i <= 20; ++i) ring += "#" + std::to_string(i) + " = R(#" + std::to_string(i % 20 + 1) + ");\n";
+    const std::string r = failure(kHead + ring + kTail);
+    EXPECT_NE(r.find("(#1 -> #2 -> #3 -> #4 -> ... (14 more) -> #19 -> #20 -> #1)"), std::string::npos) << r;
+    // Shared references without a cycle (a diamond) are fine.
+    EXPECT_NO_THROW(checkExchangeStructure(kHead + "#1 = A(#2,#3);\n#2 = B(#4);\n#3 = C(#4);\n#4 = D(1);\n" + kTail, "d.stp"));
+}
+
 }  // namespace
 }  // namespace aero::cad::step
