@@ -172,7 +172,8 @@ File parse(const std::string& text, const std::string& path) {
     int parameterLine = 0;
     std::istringstream lines(text);
     int lineNumber = 0;
-    bool sawRecord = false;  // a line with an IGES section letter in column 73
+    bool sawRecord = false;   // a line with an IGES section letter in column 73
+    bool terminated = false;  // the terminate (T) record has been read
     for (std::string line; std::getline(lines, line);) {
         ++lineNumber;
         if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -193,9 +194,11 @@ File parse(const std::string& text, const std::string& path) {
                                std::to_string(line.size()) + ")");
         // A shorter line has no section letter; OpenCASCADE's reader joined such lines into the
         // global section differently from us and crashed later, reading a B-spline surface's
-        // parameters (found by fuzz_iges, tests/fuzz). Blank lines are harmless to both.
+        // parameters (found by fuzz_iges, tests/fuzz).
         if (line.size() < 73) {
-            if (line.find_first_not_of(" \t") == std::string::npos) continue;
+            // Blank lines, and whatever follows the terminate record (an old DOS end-of-file
+            // byte), are skipped.
+            if (line.find_first_not_of(" \t") == std::string::npos || terminated) continue;
             if (!sawRecord)  // a text or JSON file given as IGES
                 throw InputError(quoted(path) + " is not an IGES file (line " + std::to_string(lineNumber) +
                                  " is not an 80-column IGES record)");
@@ -205,6 +208,7 @@ File parse(const std::string& text, const std::string& path) {
         }
         const char section = line[72];
         sawRecord = sawRecord || section == 'S' || section == 'G' || section == 'D' || section == 'P' || section == 'T';
+        terminated = terminated || section == 'T';
         if (lineNumber == 1 && (section == 'B' || section == 'C'))
             failFile(path, std::string(section == 'B' ? "binary" : "compressed") +
                                " IGES is not supported (write the file in the fixed ASCII form)");

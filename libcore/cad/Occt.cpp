@@ -50,7 +50,11 @@
 #include <StepGeom_BSplineSurface.hxx>
 #include <StepGeom_HArray1OfCartesianPoint.hxx>
 #include <StepGeom_HArray2OfCartesianPoint.hxx>
+#include <StepGeom_Curve.hxx>
+#include <StepGeom_Pcurve.hxx>
 #include <StepGeom_Placement.hxx>
+#include <StepRepr_DefinitionalRepresentation.hxx>
+#include <StepRepr_HArray1OfRepresentationItem.hxx>
 #include <StepShape_Face.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -610,6 +614,23 @@ void checkStepControlPoints(STEPControl_Reader& reader, const std::string& path)
                    !placement.IsNull()) {
             what = "placement";
             bad = placement->Location().IsNull();
+        } else if (const auto pcurve = Handle(StepGeom_Pcurve)::DownCast(entity); !pcurve.IsNull()) {
+            // The p-curve's 2D curve is the first item of its definitional representation; an item
+            // of another type (a point) was a null curve in the translator (SEGV in
+            // StepToGeom::MakeCurve2d; found by fuzz_step, 2026-12-05).
+            const Handle(StepRepr_DefinitionalRepresentation) rep = pcurve->ReferenceToCurve();
+            const Handle(StepRepr_HArray1OfRepresentationItem) items = rep.IsNull() ? nullptr : rep->Items();
+            const Handle(Standard_Transient) item =
+                items.IsNull() || items->Length() < 1 ? nullptr : Handle(Standard_Transient)(items->Value(items->Lower()));
+            if (item.IsNull() || !item->IsKind(STANDARD_TYPE(StepGeom_Curve)))
+                throw InputError("STEP file " + quoted(path) + ": p-curve #" + std::to_string(model->IdentLabel(entity)) +
+                                 ": its definitional representation" +
+                                 (rep.IsNull() ? std::string(" is missing")
+                                               : " #" + std::to_string(model->IdentLabel(rep)) +
+                                                     (item.IsNull() ? std::string(" has no items")
+                                                                    : " holds #" + std::to_string(model->IdentLabel(item)) +
+                                                                          " (" + item->DynamicType()->Name() +
+                                                                          "), not a curve")));
         }
         if (bad)
             throw InputError("STEP file " + quoted(path) + ": " + what + " #" +

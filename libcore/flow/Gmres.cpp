@@ -51,10 +51,10 @@ double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double*
     const int width = k + 1;  // k dot products and the squared norm
     partial.assign(static_cast<std::size_t>(chunks * width), 0.0);
     std::vector<double> g(width), total(k, 0.0);
-    // The dot products, and ||w||^2 before the pass.
-    // Four dot products at a time: each is still one sum in index order (the same bits), but the
-    // four chains of additions overlap instead of each waiting for the last addition (a single
-    // chain is limited by the adder's latency, not by memory), and w is read once for four.
+    // The dot products, and ||w||^2 before the pass. Four dot products at a time: each is still
+    // one sum in index order (the same bits), but the four chains of additions overlap instead
+    // of each waiting for the last addition (a single chain is limited by the adder's latency,
+    // not by memory), and w is read once for four.
     auto project = [&] {
 #pragma omp parallel for schedule(static)
         for (long c = 0; c < chunks; ++c) {

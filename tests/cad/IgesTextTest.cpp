@@ -524,6 +524,8 @@ TEST(IgesText, ALineShorterThan73ColumnsIsRefused) {
         << m;
     std::string blank = trimmedWing().text();
     blank.insert(blank.find('\n') + 1, "\n   \n");
+    if (blank.back() != '\n') blank += '\n';
+    blank += "\x1a\n";  // after the terminate record: an old DOS end-of-file byte
     writeText(path, blank);
     EXPECT_EQ(readIges(path).size(), 1);
 }

@@ -171,6 +171,28 @@ TEST(Step, AnUnreadableControlPointIsRefusedNotACrash) {
     EXPECT_NE(m.find("is malformed"), std::string::npos) << m;
 }
 
+// Found by fuzz_step, 2026-12-05: a p-curve whose definitional representation holds a point
+// instead of a 2D curve crashed OpenCASCADE's translator (SEGV in StepToGeom::MakeCurve2d).
+// Refused, naming the p-curve, its representation and the item.
+TEST(Step, APcurveWhoseRepresentationHoldsNoCurveIsRefusedNotACrash) {
+    const std::string path = outputPath("pcurve_point.stp");
+    fixtures::writeStepWithOcct(fixtures::trimmedFace(fixtures::wavySurface(), true), "MM", path);
+    std::string text = fixtures::slurp(path);
+    // The first DEFINITIONAL_REPRESENTATION('',(#c),#ctx): its item becomes a CARTESIAN_POINT.
+    const std::size_t rep = text.find("DEFINITIONAL_REPRESENTATION('',(#");
+    ASSERT_NE(rep, std::string::npos);
+    const std::size_t point = text.find("= CARTESIAN_POINT(");
+    ASSERT_NE(point, std::string::npos);
+    const std::size_t hash = text.rfind('#', point);
+    const std::string pointId = text.substr(hash + 1, text.find_first_of(" =", hash) - hash - 1);
+    const std::size_t item = rep + std::string("DEFINITIONAL_REPRESENTATION('',(#").size();
+    text.replace(item, text.find(')', item) - item, pointId);
+    fixtures::writeText(path, text);
+    const std::string m = messageOf([&] { readStep(path); });
+    EXPECT_NE(m.find("STEP file '" + path + "': p-curve #"), std::string::npos) << m;
+    EXPECT_NE(m.find("holds #" + pointId + " (StepGeom_CartesianPoint), not a curve"), std::string::npos) << m;
+}
+
 TEST(Step, BadInputIsAnInputErrorNamingTheFile) {
     const std::string missing = outputPath("missing.stp");
     std::filesystem::remove(missing);
