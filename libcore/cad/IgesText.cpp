@@ -61,6 +61,7 @@ bool isNumber(std::string_view t) {
 struct Token {
     std::string text;
     bool string = false;  // a Hollerith string (text without its nH)
+    std::size_t begin = 0, end = 0;  // a parameter's trimmed text in the data (not strings)
 };
 
 /// Splits free-format data into parameters up to the record delimiter (what follows it is a
@@ -86,7 +87,11 @@ std::vector<Token> tokenize(std::string_view s, char pd, char rd) {
         } else {
             end = std::min(s.find(pd, i), s.find(rd, i));
             if (end == std::string_view::npos) end = s.size();
-            t.text = std::string(trim(s.substr(i, end - i)));
+            const std::string_view raw = s.substr(i, end - i);
+            const std::string_view trimmed = trim(raw);
+            t.text = std::string(trimmed);
+            t.begin = i + (trimmed.empty() ? 0 : static_cast<std::size_t>(trimmed.data() - raw.data()));
+            t.end = t.begin + trimmed.size();
         }
         out.push_back(std::move(t));
         if (end >= s.size() || s[end] == rd) break;
@@ -330,6 +335,19 @@ File parse(const std::string& text, const std::string& path) {
             failEntity(f, e,
                        "its parameter data starts with type '" +
                            (tokens.empty() ? std::string() : tokens[0].text) + "'");
+        for (std::size_t i = 0; i < tokens.size(); ++i) {
+            // Each parameter line holds 64 columns of the data. A parameter other than a string
+            // that runs on across a line's end ("27, +" then "19,") is one parameter for us and
+            // two for OpenCASCADE, whose later parameters then shift (a crash in its B-rep
+            // transfer; found by fuzz_iges).
+            const Token& t = tokens[i];
+            if (!t.string && t.end > t.begin && (t.begin / 64) != ((t.end - 1) / 64))
+                failEntity(f, e,
+                           (i == 0 ? std::string("its type") : parameterName(i - 1)) + " ('" + t.text +
+                               "') runs across the end of its parameter line " +
+                               std::to_string(dataLines[e.de].first + static_cast<int>(t.begin / 64)) +
+                               ": only strings may continue on the next line");
+        }
         for (std::size_t i = 1; i < tokens.size(); ++i) {
             if (geometric(e.type) && !tokens[i].string) {
                 if (!isNumber(tokens[i].text))

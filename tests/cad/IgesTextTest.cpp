@@ -5,6 +5,8 @@
 // with the file and the entity named.
 #include <gtest/gtest.h>
 
+#include <cctype>
+
 #include <BRepTools.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <IGESControl_Controller.hxx>
@@ -528,6 +530,39 @@ TEST(IgesText, ALineShorterThan73ColumnsIsRefused) {
     blank += "\x1a\n";  // after the terminate record: an old DOS end-of-file byte
     writeText(path, blank);
     EXPECT_EQ(readIges(path).size(), 1);
+}
+
+// Found by fuzz_iges (tests/fuzz), 2026-12-05: an edge list's parameter line ending in "27, +"
+// with "19," on the next line. We joined the lines and read "+19"; OpenCASCADE ended the
+// parameter at the line's end, read "+" alone, and its B-rep transfer crashed on the shifted
+// parameters (SEGV in IGESSolid_VertexList::NbVertices). A parameter other than a string that
+// runs across a parameter line's end is refused, naming the entity, the parameter and the line.
+TEST(IgesText, AParameterRunningAcrossAParameterLinesEndIsRefused) {
+    const std::string path = outputPath("hand_split_parameter.igs");
+    std::string text = trimmedWing().text();
+    // The first parameter line whose data ends in ", " with room for a sign, followed by a line
+    // of the same entity that starts with a digit: its last two data columns become " +".
+    std::vector<std::size_t> starts;
+    for (std::size_t at = 0; at < text.size(); at = text.find('\n', at) + 1) {
+        starts.push_back(at);
+        if (text.find('\n', at) == std::string::npos) break;
+    }
+    bool made = false;
+    for (std::size_t k = 0; k + 1 < starts.size() && !made; ++k) {
+        const std::string line = text.substr(starts[k], 80), next = text.substr(starts[k + 1], 80);
+        if (line.size() < 80 || next.size() < 80 || line[72] != 'P' || next[72] != 'P') continue;
+        if (line.substr(64, 8) != next.substr(64, 8) || !std::isdigit(static_cast<unsigned char>(next[0]))) continue;
+        const std::size_t last = line.find_last_not_of(' ', 63);
+        if (last == std::string::npos || line[last] != ',' || last > 61) continue;
+        text.replace(starts[k] + 62, 2, " +");
+        made = true;
+    }
+    ASSERT_TRUE(made) << "no parameter line of the fixture to split";
+    writeText(path, text);
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("') runs across the end of its parameter line "), std::string::npos) << m;
+    EXPECT_NE(m.find("only strings may continue on the next line"), std::string::npos) << m;
 }
 
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
