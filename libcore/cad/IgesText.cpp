@@ -58,6 +58,8 @@ bool isNumber(std::string_view t) {
     return i == t.size();
 }
 
+constexpr std::size_t kDataColumns = 64;  // a parameter line's data: columns 1-64
+
 struct Token {
     std::string text;
     bool string = false;  // a Hollerith string (text without its nH)
@@ -229,7 +231,7 @@ File parse(const std::string& text, const std::string& path) {
                     path,
                     "line " + std::to_string(lineNumber) +
                         ": parameter data without its directory entry pointer in columns 65-72");
-            data[de].append(line, 0, 64);
+            data[de].append(line, 0, kDataColumns);
             Lines& l = dataLines[de];
             ++parameterLine;
             if (l.count++ == 0) l.first = parameterLine;
@@ -336,16 +338,17 @@ File parse(const std::string& text, const std::string& path) {
                        "its parameter data starts with type '" +
                            (tokens.empty() ? std::string() : tokens[0].text) + "'");
         for (std::size_t i = 0; i < tokens.size(); ++i) {
-            // Each parameter line holds 64 columns of the data. A parameter other than a string
+            // Each parameter line holds kDataColumns of the data. A parameter other than a string
             // that runs on across a line's end ("27, +" then "19,") is one parameter for us and
             // two for OpenCASCADE, whose later parameters then shift (a crash in its B-rep
             // transfer; found by fuzz_iges).
             const Token& t = tokens[i];
-            if (!t.string && t.end > t.begin && (t.begin / 64) != ((t.end - 1) / 64))
+            const std::size_t firstLine = t.begin / kDataColumns;
+            if (!t.string && t.end > t.begin && firstLine != (t.end - 1) / kDataColumns)
                 failEntity(f, e,
                            (i == 0 ? std::string("its type") : parameterName(i - 1)) + " ('" + t.text +
                                "') runs across the end of its parameter line " +
-                               std::to_string(dataLines[e.de].first + static_cast<int>(t.begin / 64)) +
+                               std::to_string(dataLines[e.de].first + static_cast<int>(firstLine)) +
                                ": only strings may continue on the next line");
         }
         for (std::size_t i = 1; i < tokens.size(); ++i) {

@@ -622,15 +622,17 @@ void checkStepControlPoints(STEPControl_Reader& reader, const std::string& path)
             const Handle(StepRepr_HArray1OfRepresentationItem) items = rep.IsNull() ? nullptr : rep->Items();
             const Handle(Standard_Transient) item =
                 items.IsNull() || items->Length() < 1 ? nullptr : Handle(Standard_Transient)(items->Value(items->Lower()));
-            if (item.IsNull() || !item->IsKind(STANDARD_TYPE(StepGeom_Curve)))
+            if (item.IsNull() || !item->IsKind(STANDARD_TYPE(StepGeom_Curve))) {
+                std::string why = " is missing";
+                if (!rep.IsNull()) {
+                    why = " #" + std::to_string(model->IdentLabel(rep));
+                    why += item.IsNull() ? " has no items"
+                                         : " holds #" + std::to_string(model->IdentLabel(item)) + " (" +
+                                               item->DynamicType()->Name() + "), not a curve";
+                }
                 throw InputError("STEP file " + quoted(path) + ": p-curve #" + std::to_string(model->IdentLabel(entity)) +
-                                 ": its definitional representation" +
-                                 (rep.IsNull() ? std::string(" is missing")
-                                               : " #" + std::to_string(model->IdentLabel(rep)) +
-                                                     (item.IsNull() ? std::string(" has no items")
-                                                                    : " holds #" + std::to_string(model->IdentLabel(item)) +
-                                                                          " (" + item->DynamicType()->Name() +
-                                                                          "), not a curve")));
+                                 ": its definitional representation" + why);
+            }
         }
         if (bad)
             throw InputError("STEP file " + quoted(path) + ": " + what + " #" +
