@@ -220,9 +220,24 @@ File parse(const std::string& text, const std::string& path) {
             failFile(path, std::string(section == 'B' ? "binary" : "compressed") +
                                " IGES is not supported (write the file in the fixed ASCII form)");
         if (section == 'G') global.append(line, 0, 72);
-        if (section == 'D')
+        if (section == 'D') {
+            // OpenCASCADE finds directory entries by these numbers, not by position: a
+            // repeated number made it read another entity's entry and crash on a face's loop, a
+            // missing one drop a face (found by fuzz_iges, tests/fuzz).
+            const std::size_t expected = directory.size() + 1;
+            const std::string_view number =
+                trim(std::string_view(line).substr(73, std::min<std::size_t>(line.size() - 73, 7)));
+            const bool digits = !number.empty() && number.find_first_not_of("0123456789") == std::string_view::npos;
+            if (!digits || number.size() > 7 || std::stoul(std::string(number)) != expected)
+                failFile(path, "line " + std::to_string(lineNumber) + ": directory line " +
+                                   std::to_string(expected) +
+                                   (number.empty() ? std::string(" has no sequence number")
+                                                   : " is numbered '" + std::string(number) + "'") +
+                                   " in columns 74-80; the directory section's lines must be numbered 1, "
+                                   "2, 3, ... in order");
             directory.push_back(line.size() < 80 ? line + std::string(80 - line.size(), ' ')
                                                  : line);
+        }
         if (section == 'P') {
             bool ok = true;
             const int de = fieldInt(line, 8, ok);  // columns 65-72

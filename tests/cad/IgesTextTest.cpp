@@ -565,6 +565,42 @@ TEST(IgesText, AParameterRunningAcrossAParameterLinesEndIsRefused) {
     EXPECT_NE(m.find("only strings may continue on the next line"), std::string::npos) << m;
 }
 
+TEST(IgesText, DirectoryLinesNumberedOutOfOrderAreRefused) {
+    // OpenCASCADE finds directory entries by the numbers in columns 74-80: a repeated number made
+    // it read another entry and crash (found by fuzz_iges), a blank one drop a face.
+    const std::string text = trimmedWing().text();
+    std::vector<std::size_t> directoryStarts;
+    for (std::size_t at = 0; at < text.size(); at = text.find('\n', at) + 1) {
+        if (text.size() >= at + 80 && text[at + 72] == 'D') directoryStarts.push_back(at);
+        if (text.find('\n', at) == std::string::npos) break;
+    }
+    ASSERT_GE(directoryStarts.size(), 6u);
+    struct Case {
+        std::string number, fragment;
+    };
+    const std::vector<Case> cases = {
+        {"0000003", "directory line 5 is numbered '0000003' in columns 74-80"},
+        {"       ", "directory line 5 has no sequence number in columns 74-80"},
+        {"00000x5", "directory line 5 is numbered '00000x5'"},
+    };
+    for (const Case& c : cases) {
+        std::string broken = text;
+        broken.replace(directoryStarts[4] + 73, 7, c.number);
+        const std::string path = outputPath("renumbered_directory.igs");
+        writeText(path, broken);
+        const std::string m = messageOf<InputError>([&] { readIges(path); });
+        EXPECT_NE(m.find(path), std::string::npos) << m;
+        EXPECT_NE(m.find(c.fragment), std::string::npos) << m;
+        EXPECT_NE(m.find("must be numbered 1, 2, 3, ... in order"), std::string::npos) << m;
+    }
+    // Numbers padded with spaces instead of zeros are numbers.
+    std::string padded = text;
+    padded.replace(directoryStarts[4] + 73, 7, "      5");
+    const std::string path = outputPath("space_padded_directory.igs");
+    writeText(path, padded);
+    EXPECT_NO_THROW(readIges(path));
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()
