@@ -372,10 +372,16 @@ File parse(const std::string& text, const std::string& path) {
                     failEntity(f, e,
                                parameterName(i - 1) + " is not a number: '" + tokens[i].text + "'");
                 // No geometry needs more than 15 orders of magnitude; such values are corrupt
-                // data, and OpenCASCADE's algorithms can run without end on them.
+                // data, and OpenCASCADE's algorithms can run without end on them (a line's end
+                // point of 1.57E+8700, beyond double precision, hung its trimming: found by
+                // fuzz_iges).
                 bool finite = true;
                 const double v = parseNumber(tokens[i].text, finite);
-                if (finite && std::abs(v) > kLargestValue)
+                if (!finite)
+                    failEntity(f, e,
+                               parameterName(i - 1) + " is " + tokens[i].text +
+                                   ": not a finite number (beyond the range of double precision)");
+                if (std::abs(v) > kLargestValue)
                     failEntity(f, e,
                                parameterName(i - 1) + " is " + tokens[i].text +
                                    ": larger in magnitude than 1e15");

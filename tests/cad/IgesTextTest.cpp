@@ -601,6 +601,35 @@ TEST(IgesText, DirectoryLinesNumberedOutOfOrderAreRefused) {
     EXPECT_NO_THROW(readIges(path));
 }
 
+TEST(IgesText, NumbersBeyondDoublePrecisionAreRefused) {
+    // A 2D line's end point of 1.57E+8700 (infinite once read) made OpenCASCADE's trimming run
+    // without end (found by fuzz_iges); finite values above 1e15 were refused already.
+    const std::string text = trimmedWing().text();
+    // The first parameter line whose data starts with a number: its first value overflows.
+    std::size_t at = std::string::npos;
+    for (std::size_t k = 0; k < text.size(); k = text.find('\n', k) + 1) {
+        if (text.size() >= k + 80 && text[k + 72] == 'P' && (std::isdigit(static_cast<unsigned char>(text[k])) || text[k] == '-')) {
+            const std::size_t comma = text.find_first_of(",;", k);
+            if (comma != std::string::npos && comma < k + 64 && comma - k >= 7 && text.substr(k, 4) != "126," &&
+                text.substr(k, 4) != "110," && text.substr(k, 4) != "128,") {
+                at = k;
+                break;
+            }
+        }
+        if (text.find('\n', k) == std::string::npos) break;
+    }
+    ASSERT_NE(at, std::string::npos) << "no parameter line that starts with a value";
+    const std::size_t comma = text.find_first_of(",;", at);
+    std::string broken = text;
+    const std::string huge = "1E+8700";
+    broken.replace(at, comma - at, std::string(comma - at - huge.size(), ' ') + huge);
+    const std::string path = outputPath("overflowing_number.igs");
+    writeText(path, broken);
+    const std::string m = messageOf<InputError>([&] { readIges(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("is 1E+8700: not a finite number (beyond the range of double precision)"), std::string::npos) << m;
+}
+
 TEST(IgesText, BrokenTrimEntitiesAreRefusedNamingFileAndEntity) {
     struct Break {
         std::size_t entity;  // index in trimmedWing()
