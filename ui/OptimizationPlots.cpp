@@ -332,16 +332,20 @@ int OptimizationPlots::iterationPoints() const {
 QString OptimizationPlots::evaluationsCsv() const {
     QString out = QStringLiteral(
         "evaluation,status,objective,J,CL,CD,L/"
-        "D,volume,max_mach,alpha_deg,flow_iterations,message\n");
+        "D,volume,half_span,projected_area,aspect_ratio,max_mach,alpha_deg,flow_iterations,message\n");
     for (const auto& r : evaluations_) {
         const double ld = r.ok && r.CD != 0 ? r.CL / r.CD : kNaN;
+        const geometry::Planform& f = r.planform;
+        const bool planform = f.projectedArea > 0;
         out +=
-            QStringLiteral("%1,%2,%3,%4,%5,%6,%7,%8,%9,%10,%11,%12\n")
+            QStringLiteral("%1,%2,%3,%4,%5,%6,%7,%8,%9,%10,%11,%12,%13,%14,%15\n")
                 .arg(r.index)
                 .arg(csvText(QString::fromStdString(r.status)))
                 .arg(csvNumber(r.ok ? r.objective : kNaN), csvNumber(r.ok ? r.J : kNaN),
                      csvNumber(r.ok ? r.CL : kNaN), csvNumber(r.ok ? r.CD : kNaN), csvNumber(ld),
-                     csvNumber(r.volume), csvNumber(r.ok ? r.maxMach : kNaN), csvNumber(r.alphaDeg))
+                     csvNumber(r.volume), csvNumber(planform ? f.halfSpan : kNaN),
+                     csvNumber(planform ? f.projectedArea : kNaN), csvNumber(planform ? f.aspectRatio : kNaN))
+                .arg(csvNumber(r.ok ? r.maxMach : kNaN), csvNumber(r.alphaDeg))
                 .arg(r.flowIterations)
                 .arg(csvText(QString::fromStdString(r.message)));
     }

@@ -405,6 +405,10 @@ void OptimizationWorkspace::updateEvaluationPanel() {
         text = tr("Failed: %1: %2")
                    .arg(QString::fromStdString(r.status), QString::fromStdString(r.message));
     }
+    if (r.planform.projectedArea > 0) {  // the shape's, known even when its flow failed
+        text += tr("\nhalf-span %1, projected area %2, aspect ratio %3")
+                    .arg(num(r.planform.halfSpan, 5), num(r.planform.projectedArea, 5), num(r.planform.aspectRatio, 4));
+    }
     if (r.index == h.latestIterate()) text += tr("\nThe optimizer's latest iterate.");
     if (e->snapshot && !e->snapshot->flow)
         text += tr("\nIts flow solution is not kept (Solve Its Flow brings the fields back).");

@@ -117,10 +117,11 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
                 if (r.ok) {
                     std::string grid = r.cornerRatio != 0 ? format(", smallest cell corner %.3g of its baseline", std::exp(r.cornerRatio)) : "";
                     if (r.wallBend > 0) grid += format(", wall bend %.1f deg", r.wallBend);
-                    say(format("evaluation %.0f: %s %.8g, CL %.6f, CD %.6f, volume %.6f, alpha %.4g%s, max Mach %.3f, %.0f flow "
-                               "iterations%s, %.1f s%s",
+                    say(format("evaluation %.0f: %s %.8g, CL %.6f, CD %.6f, volume %.6f, half-span %.4f, aspect ratio %.3f, "
+                               "alpha %.4g%s, max Mach %.3f, %.0f flow iterations%s, %.1f s%s",
                                static_cast<double>(r.index), c.optimization.objective.c_str(), r.J, r.CL, r.CD, r.volume,
-                               r.alphaDeg, grid.c_str(), r.maxMach, static_cast<double>(r.flowIterations),
+                               r.planform.halfSpan, r.planform.aspectRatio, r.alphaDeg, grid.c_str(), r.maxMach,
+                               static_cast<double>(r.flowIterations),
                                r.warmFrom ? " (warm)" : "", r.seconds, tag));
                 } else {
                     say(format("evaluation %.0f failed (%s): %s%s", static_cast<double>(r.index), r.status.c_str(),
@@ -145,6 +146,9 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
         say(format("best: %s %.8g, CL %.6f, CD %.6f, volume %.6f (start %.6f), optimality %.2e, feasibility %.2e",
                    c.optimization.objective.c_str(), s.J, s.forces.CL, s.forces.CD, s.volume, s.startVolume, r.optimality,
                    r.feasibility));
+        say(format("best planform: half-span %.4f, projected area %.4f, aspect ratio %.3f (start %.4f, %.4f, %.3f)",
+                   s.planform.halfSpan, s.planform.projectedArea, s.planform.aspectRatio, s.startPlanform.halfSpan,
+                   s.startPlanform.projectedArea, s.startPlanform.aspectRatio));
         if (s.replayedEvaluations > 0) {
             say(format("replayed from the history: %.0f evaluations, %.0f gradients", static_cast<double>(s.replayedEvaluations),
                        static_cast<double>(s.replayedGradients)));
@@ -171,6 +175,12 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
             j["CM"] = s.forces.CM;
             j["volume"] = s.volume;
             j["start_volume"] = s.startVolume;
+            j["half_span"] = s.planform.halfSpan;
+            j["projected_area"] = s.planform.projectedArea;
+            j["aspect_ratio"] = s.planform.aspectRatio;
+            j["start_half_span"] = s.startPlanform.halfSpan;
+            j["start_projected_area"] = s.startPlanform.projectedArea;
+            j["start_aspect_ratio"] = s.startPlanform.aspectRatio;
             j["alpha_deg"] = s.alphaDeg;
             j["optimality"] = std::isfinite(r.optimality) ? nlohmann::ordered_json(r.optimality) : nlohmann::ordered_json(nullptr);
             j["feasibility"] = r.feasibility;

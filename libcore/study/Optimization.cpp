@@ -39,6 +39,17 @@ constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (i
 constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - cos of the bend)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The planform of an evaluated shape for the history (zeros when there is none: a design whose
+// lattice folded before its shape was built, or trimmed patches).
+geometry::Planform planformOf(const geometry::PatchSet& shape) {
+    if (shape.patches.empty()) return {};
+    try {
+        return geometry::planform(shape);
+    } catch (const GeometryError&) {
+        return {};
+    }
+}
+
 double since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -88,6 +99,11 @@ Json toJson(const OptimizationRecord& r) {
             j["CD"] = number(r.CD);
             j["CM"] = number(r.CM);
             j["volume"] = number(r.volume);
+            if (r.planform.projectedArea > 0) {
+                j["half_span"] = number(r.planform.halfSpan);
+                j["projected_area"] = number(r.planform.projectedArea);
+                j["aspect_ratio"] = number(r.planform.aspectRatio);
+            }
             j["corner_ratio"] = number(r.cornerRatio);
             j["wall_bend"] = number(r.wallBend);
             if (std::isfinite(r.growingMode)) j["growing_mode_rate"] = r.growingMode;
@@ -147,6 +163,11 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.CD = number(j.at("CD"));
             r.CM = number(j.at("CM"));
             r.volume = number(j.at("volume"));
+            if (j.contains("projected_area")) {
+                r.planform.halfSpan = number(j.at("half_span"));
+                r.planform.projectedArea = number(j["projected_area"]);
+                r.planform.aspectRatio = number(j.at("aspect_ratio"));
+            }
             if (j.contains("corner_ratio")) r.cornerRatio = number(j["corner_ratio"]);
             if (j.contains("wall_bend")) r.wallBend = number(j["wall_bend"]);
             if (j.contains("growing_mode_rate")) r.growingMode = number(j["growing_mode_rate"]);
@@ -251,32 +272,39 @@ public:
 
 private:
     std::string evaluationHeader() const {
-        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,smallest_corner_ratio,sharpest_wall_bend,max_mach,max_entropy,"
+        std::string h = "record,number,status,objective,J,CL,CD,CL/CD,CM,volume,half_span,projected_area,aspect_ratio,"
+                        "smallest_corner_ratio,sharpest_wall_bend,max_mach,max_entropy,"
                         "alpha_deg,flow_iterations,adjoint_iterations,seconds,message";
         for (const std::string& n : names_) h += "," + n;
         return h + "\n";
     }
     static std::string iterationHeader() {
-        return "iteration,evaluations,gradients,objective,optimality,feasibility,J,CL,CD,CL/CD,volume\n";
+        return "iteration,evaluations,gradients,objective,optimality,feasibility,J,CL,CD,CL/CD,volume,half_span,"
+               "projected_area,aspect_ratio\n";
     }
     std::string evaluationRow(const OptimizationRecord& r) const {
         std::string s = std::string(recordKindName(r.kind)) + "," + std::to_string(r.index) + ",";
         if (r.kind == Kind::Values) {
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
                  csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
-                 csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
+                 csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," + planformFields(r.planform) + "," +
                  csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," +
                  csvNumber(r.wallBend != 0 ? r.wallBend : kNaN) + "," + csvNumber(r.ok ? r.maxMach : kNaN) + "," +
                  csvNumber(r.ok ? r.maxEntropy : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
                  std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
                  csvText(r.message);
         } else {
-            // status, then objective .. flow_iterations empty (13 fields), then adjoint_iterations.
-            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
+            // status, then objective .. flow_iterations empty (16 fields), then adjoint_iterations.
+            s += std::string(r.ok ? "ok" : "failed") + ",,,,,,,,,,,,,,,,," + std::to_string(r.adjointIterations) + "," +
                  csvNumber(r.seconds) + "," + csvText(r.message);
         }
         for (double u : r.x) s += "," + csvNumber(u);
         return s;
+    }
+    // half_span, projected_area, aspect_ratio (empty when not computed).
+    static std::string planformFields(const geometry::Planform& f) {
+        if (!(f.projectedArea > 0)) return ",,";
+        return csvNumber(f.halfSpan) + "," + csvNumber(f.projectedArea) + "," + csvNumber(f.aspectRatio);
     }
     std::string iterationRow(const OptimizationRecord& r) const {
         std::string s = std::to_string(r.index) + "," + std::to_string(r.evaluations) + "," + std::to_string(r.gradients) + "," +
@@ -284,9 +312,9 @@ private:
         const OptimizationRecord* v = valuesAt(r.x);
         if (v && v->ok) {
             s += "," + csvNumber(v->J) + "," + csvNumber(v->CL) + "," + csvNumber(v->CD) + "," + csvNumber(v->CL / v->CD) + "," +
-                 csvNumber(v->volume);
+                 csvNumber(v->volume) + "," + planformFields(v->planform);
         } else {
-            s += ",,,,,";
+            s += ",,,,,,,,";
         }
         return s;
     }
@@ -612,6 +640,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         }
         const std::vector<double> v = design(u);
         r.volume = model.volume(v);
+        r.planform = planformOf(e->shape);
         r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
         if (e->flow && e->flow->modesChecked) r.growingMode = e->flow->modes.growthRate();
@@ -797,6 +826,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     summary.values = design(best);
     summary.alphaDeg = alphaOf(best);
     summary.volume = model.volume(summary.values);
+    summary.startPlanform = planformOf(model.deform(design(p.start)));
     if (const OptimizationRecord* v = csv.valuesAt(best)) {
         summary.J = v->J;
         summary.forces.CL = v->CL;
@@ -808,6 +838,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         fs::path stem(summary.historyCsv);
         const std::string bestStem = (stem.parent_path() / (stem.stem().string() + "_best")).string();
         const geometry::PatchSet shape = writeShape(best, bestStem);
+        summary.planform = planformOf(shape);
         summary.finalGeometry = bestStem + ".igs";
         if (!c.outputGeometry.empty()) saveGeometry(shape, c.outputGeometry);
     }

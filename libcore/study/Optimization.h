@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/Planform.h"
 #include "optimize/Optimizer.h"
 #include "study/CaseEvaluator.h"
 
@@ -40,6 +41,7 @@ struct OptimizationRecord {
     std::vector<double> constraints;  // the nonlinear constraints (volume ratio, CL)
     // Values: the evaluation.
     double J = 0, CL = 0, CD = 0, CM = 0, volume = 0, alphaDeg = 0;
+    geometry::Planform planform;    // of the evaluated shape (all 0: not computed)
     double cornerRatio = 0;         // log of the grid's smallest corner ratio (smooth; 0: not computed)
     double wallBend = 0;            // the wall's sharpest node-to-node bend, degrees (0: no grid)
     double growingMode = std::numeric_limits<double>::quiet_NaN();  // a flow that did not converge
@@ -86,6 +88,7 @@ struct OptimizationSummary {
     double alphaDeg = 0;
     flow::ForceCoefficients forces;      // at the best design
     double J = 0, volume = 0, startVolume = 0;
+    geometry::Planform planform, startPlanform;  // of the best and the starting shape
     int replayedEvaluations = 0, replayedGradients = 0;
     int coldFlowIterations = 0;          // the first evaluation's flow iterations (cold start)
     int warmStarts = 0;                  // evaluations warm-started ...

@@ -852,9 +852,24 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
     EXPECT_NE(slurp(tmp("opt_whole/history_objective.svg")).find("<polyline"), std::string::npos);
     EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find("values,1,ok,"), std::string::npos);
     EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find(",smallest_corner_ratio,sharpest_wall_bend,max_mach,max_entropy,"), std::string::npos);
+    // The planform the paper reports (half-span, projected area, aspect ratio), per evaluation
+    // and for the start and the best shape: the half-sphere's is 1, pi/2 and 4/pi.
+    EXPECT_NE(slurp(tmp("opt_whole/history.csv")).find(",volume,half_span,projected_area,aspect_ratio,"), std::string::npos);
+    EXPECT_NEAR(a["start_half_span"].get<double>(), 1.0, 1e-4);
+    EXPECT_NEAR(a["start_projected_area"].get<double>(), M_PI / 2, 1e-3);
+    EXPECT_NEAR(a["start_aspect_ratio"].get<double>(), 4 / M_PI, 1e-3);
+    EXPECT_GT(a["half_span"].get<double>(), 0.5);
+    EXPECT_NEAR(a["aspect_ratio"].get<double>(),
+                2 * std::pow(a["half_span"].get<double>(), 2) / a["projected_area"].get<double>(), 1e-12);
     EXPECT_NE(slurp(tmp("opt_whole/history_iterations.csv")).find("iteration,evaluations,gradients,objective,optimality"),
               std::string::npos);
     const auto wholeRecords = historyRecords(tmp("opt_whole/history.jsonl"));
+    for (const nlohmann::json& rec : wholeRecords) {
+        if (rec["kind"] == "values" && rec["evaluation"] == 1) {
+            EXPECT_NEAR(rec["half_span"].get<double>(), 1.0, 1e-4);  // the sphere
+            EXPECT_NEAR(rec["projected_area"].get<double>(), M_PI / 2, 1e-3);
+        }
+    }
 
     // Killed (SIGKILL) three times at random moments (a fixed seed: after a random number of
     // records, then a random 0-0.4 s into whatever runs next, a history write included), each
