@@ -8,6 +8,7 @@
 
 #include "cli/CliSupport.h"
 #include "geometry/EnclosedVolume.h"
+#include "geometry/Planform.h"
 #include "io/CaseFile.h"
 #include "io/GeometryVtk.h"
 #include "study/CaseEvaluator.h"
@@ -28,7 +29,8 @@ const char* kDeformHelp =
     "case sets embedding.allow_outside) or a deformed lattice is not injective.\n"
     "\n"
     "  --json    print one JSON summary on stdout (embedded_points, max_embedding_error,\n"
-    "            points_outside, injective, min_jacobian, volume, design_variables, ...)\n"
+    "            points_outside, injective, min_jacobian, volume, planform (half_span,\n"
+    "            projected_area, aspect_ratio), design_variables, ...)\n"
     "  --list    list the design variables (name, baseline, bounds, value) and exit\n"
     "  --help    this text\n";
 
@@ -102,6 +104,15 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             progress(false, "enclosed volume not computed (%d trimmed patches)", set.trimmedCount());
         else
             progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
+        // The planform (Section V of the paper): half-span, shadow on Z = 0, aspect ratio.
+        geometry::Planform planform0, planform;
+        if (!trimmed) {
+            planform0 = geometry::planform(set);
+            planform = geometry::planform(deformed);
+            progress(false, "planform: half-span %.6g, projected area %.6g, aspect ratio %.4g (baseline %.6g, %.6g, %.4g)",
+                     planform.halfSpan, planform.projectedArea, planform.aspectRatio, planform0.halfSpan,
+                     planform0.projectedArea, planform0.aspectRatio);
+        }
 
         // Constraints, reported (deform does not enforce them; the optimizer will).
         nlohmann::ordered_json constraints;
@@ -165,6 +176,17 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             j["lattices"] = lattices;
             j["volume"] = trimmed ? nlohmann::ordered_json() : nlohmann::ordered_json(volume);
             j["initial_volume"] = trimmed ? nlohmann::ordered_json() : nlohmann::ordered_json(volume0);
+            auto planformJson = [&](const geometry::Planform& f) {
+                if (trimmed) return nlohmann::ordered_json();
+                nlohmann::ordered_json p;
+                p["half_span"] = f.halfSpan;
+                p["projected_area"] = f.projectedArea;
+                p["aspect_ratio"] = f.aspectRatio;
+                p["half_body"] = f.halfBody;
+                return p;
+            };
+            j["planform"] = planformJson(planform);
+            j["initial_planform"] = planformJson(planform0);
             j["constraints"] = constraints;
             j["outputs"] = outputs;
             j["seconds"] = seconds(t0);

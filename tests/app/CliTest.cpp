@@ -305,6 +305,12 @@ TEST(Cli, DeformTheSampleCaseWritesExactGeometryAndVtk) {
     EXPECT_GT(j["volume"].get<double>(), j["initial_volume"].get<double>());
     EXPECT_EQ(j["constraints"]["symmetry_max_offset"], 0.0);
     EXPECT_EQ(j["constraints"]["station_gap_violations"], 0);
+    // The planform: the sphere's half-disk, then the tip station moved 1.5 outboard.
+    EXPECT_NEAR(j["initial_planform"]["half_span"].get<double>(), 1.0, 1e-4);
+    EXPECT_NEAR(j["initial_planform"]["projected_area"].get<double>(), M_PI / 2, 1e-3);
+    EXPECT_TRUE(j["planform"]["half_body"].get<bool>());
+    EXPECT_GT(j["planform"]["half_span"].get<double>(), 2.0);
+    EXPECT_GT(j["planform"]["aspect_ratio"].get<double>(), j["initial_planform"]["aspect_ratio"].get<double>());
     // The deformed IGES holds the same patch structure, stretched spanwise.
     const Result info = run("info '" + outputPath("cli_deformed/bwb.igs") + "' --json");
     ASSERT_EQ(info.code, 0) << info.err;
@@ -337,6 +343,7 @@ TEST(Cli, TrimmedGeometryDeformsButIsNotMeshed) {
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["embedded_points"], 521);
     EXPECT_TRUE(j["volume"].is_null());  // not computed over trimmed patches
+    EXPECT_TRUE(j["planform"].is_null());
     EXPECT_NE(r.err.find("enclosed volume not computed (1 trimmed patches)"), std::string::npos) << r.err;
     r = run("info '" + outputPath("cli_trimmed/deformed.igs") + "' --json");
     ASSERT_EQ(r.code, 0) << r.err;
