@@ -13,11 +13,13 @@ namespace aero::geometry {
 
 namespace {
 
-constexpr int kSamplesPerPatch = 128;  // parameter samples per direction, at least
+constexpr int kSamplesPerPatch = 128;  // parameter intervals per direction, at most ...
+constexpr long kSampleBudget = 1L << 21;  // ... and about this many samples over all patches (48 MB)
 constexpr int kPixels = 2048;          // raster cells along the shadow's longer side
 
 // Parameters from the first to the last knot, every distinct knot span cut into equal parts, at
-// least `total` intervals in all (a kink at a knot stays a sample).
+// least `total` intervals in all (a kink at a knot stays a sample); a patch of more than 1,024
+// spans is sampled uniformly at 1,024 intervals.
 std::vector<double> parameterSamples(const std::vector<double>& knots, int degree, int total) {
     const double first = knots[static_cast<std::size_t>(degree)];
     const double last = knots[knots.size() - 1 - static_cast<std::size_t>(degree)];
@@ -26,6 +28,11 @@ std::vector<double> parameterSamples(const std::vector<double>& knots, int degre
         if (breaks.empty() || knots[k] > breaks.back()) breaks.push_back(knots[k]);
     }
     const int spans = std::max(1, static_cast<int>(breaks.size()) - 1);
+    if (spans > 1024) {  // thousands of knot spans: uniform samples (the knots' kinks may fall between)
+        std::vector<double> t(1025);
+        for (int i = 0; i <= 1024; ++i) t[i] = first + (last - first) * i / 1024;
+        return t;
+    }
     const int per = std::max(1, (total + spans - 1) / spans);
     std::vector<double> t;
     for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
@@ -110,14 +117,18 @@ Planform planform(const PatchSet& set) {
     requireUntrimmed(set, "the planform");
     if (set.patches.empty()) throw GeometryError("the planform of '" + set.source + "': no patches");
     std::vector<Sampled> grids(set.patches.size());
+    // A file of thousands of patches gets fewer samples per patch (at least 8 intervals each).
+    const int perPatch = std::clamp(
+        static_cast<int>(std::sqrt(static_cast<double>(kSampleBudget) / static_cast<double>(set.patches.size()))), 8,
+        kSamplesPerPatch);
     double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
     double zmin = xmin, zmax = -xmin;
     int bestPatch = 0, bestI = 0, bestJ = 0;
     for (std::size_t p = 0; p < set.patches.size(); ++p) {
         const nurbs::Surface<double>& s = set.patches[p];
         Sampled& g = grids[p];
-        g.us = parameterSamples(s.knotsU, s.degreeU, kSamplesPerPatch);
-        g.vs = parameterSamples(s.knotsV, s.degreeV, kSamplesPerPatch);
+        g.us = parameterSamples(s.knotsU, s.degreeU, perPatch);
+        g.vs = parameterSamples(s.knotsV, s.degreeV, perPatch);
         g.xyz.resize(3 * g.us.size() * g.vs.size());
         nurbs::sampleGrid(s, g.us, g.vs, g.xyz.data());
         const int nu = static_cast<int>(g.us.size());

@@ -7,7 +7,8 @@
 // shape that crosses Y = 0 is a whole body: half-span = (max y - min y) / 2, and the aspect
 // ratio span^2 / S.
 //
-// How: every patch is sampled on a parameter grid that refines each knot span (the shadow is the
+// How: every patch is sampled on a parameter grid that refines each knot span (128 intervals per
+// direction, fewer when thousands of patches would exceed about 2 million samples; the shadow is the
 // union of the sampled quadrilaterals' projections, inscribed in the true one), the union is
 // rasterized on a 2048-pixel grid over its extent (pixel centres counted once however many
 // quadrilaterals cover them), and the largest |y| is refined by zooming in on the best sample.

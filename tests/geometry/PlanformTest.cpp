@@ -79,3 +79,28 @@ TEST(Planform, AnEmptySetIsAnErrorNamingIt) {
         EXPECT_NE(std::string(e.what()).find("nothing.igs"), std::string::npos) << e.what();
     }
 }
+
+TEST(Planform, ThousandsOfPatchesShareASampleBudget) {
+    // A 2 x 1 plate at z = 0 in y >= 0 as 64 x 64 bilinear patches: 4,096 patches get fewer
+    // samples each (memory stays bounded), and a flat tiling's shadow is still its area.
+    PatchSet plate;
+    plate.source = "plate";
+    const int n = 64;
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            Patch p;
+            p.degreeU = p.degreeV = 1;
+            p.countU = p.countV = 2;
+            p.knotsU = p.knotsV = {0, 0, 1, 1};
+            const double x0 = 2.0 * i / n, x1 = 2.0 * (i + 1) / n, y0 = 1.0 * j / n, y1 = 1.0 * (j + 1) / n;
+            p.points = {x0, y0, 0, x1, y0, 0, x0, y1, 0, x1, y1, 0};
+            plate.patches.push_back(p);
+            plate.names.emplace_back();
+        }
+    }
+    const Planform f = planform(plate);
+    EXPECT_TRUE(f.halfBody);
+    EXPECT_NEAR(f.halfSpan, 1.0, 1e-12);
+    EXPECT_NEAR(f.projectedArea, 2.0, 2e-3);
+    EXPECT_NEAR(f.aspectRatio, 1.0, 2e-3);
+}
