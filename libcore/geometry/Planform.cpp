@@ -13,9 +13,9 @@ namespace aero::geometry {
 
 namespace {
 
-constexpr int kSamplesPerPatch = 128;  // parameter intervals per direction, at most ...
+constexpr int kSamplesPerPatch = 64;  // parameter intervals per direction, at most ...
 constexpr long kSampleBudget = 1L << 21;  // ... and about this many samples over all patches (48 MB)
-constexpr int kPixels = 2048;          // raster cells along the shadow's longer side
+constexpr int kPixels = 1024;          // raster cells along the shadow's longer side
 
 // Parameters from the first to the last knot, every distinct knot span cut into equal parts, at
 // least `total` intervals in all (a kink at a knot stays a sample); a patch of more than 1,024
