@@ -534,7 +534,11 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                              std::to_string(header.names.size()) + " variables, constraints: " + list(header.constraintNames) +
                              " (start over with --fresh)");
         }
-        for (const OptimizationRecord& r : kept) {
+        for (OptimizationRecord& r : kept) {
+            // A history written before the planform was recorded: computed from the design (the
+            // shape alone, no flow), so the resumed run's CSV has it for every evaluation.
+            if (r.kind == Kind::Values && !(r.planform.projectedArea > 0) && r.x.size() == static_cast<std::size_t>(n))
+                r.planform = planformOf(model.deform(design(r.x)));
             if (r.kind == Kind::Values || r.kind == Kind::Gradient) replay.push_back(r);
             if (r.kind == Kind::Iteration) recordedIterations = std::max(recordedIterations, r.index);
         }
