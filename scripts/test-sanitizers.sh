@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # AddressSanitizer + UndefinedBehaviorSanitizer build (the `asan` preset) of the geometry layers
 # -- NURBS, patch sets, both FFD levels' lattices, grids, elasticity, Plot3D -- and their tests,
-# with the Plot3D reader's fuzz corpus replayed (tests/fuzz: replay_plot3d);
+# with the fuzz corpora of the readers of outside files they build on replayed (tests/fuzz:
+# replay_plot3d, and replay_iges, replay_iges_text and replay_step over the CAD readers' own
+# pre-checks, about 1.5 minutes of building for the OpenCASCADE layer);
 # scripts/test.sh runs it after the release tests. Every test of these executables runs; an ASan
 # or UBSan report fails the test (abort_on_error, halt_on_error in the preset). The rest of the
 # suite (flow, adjoint, study, CLI, GUI) under ASan is `ctest --preset asan` on a full asan
@@ -12,10 +14,10 @@
 # (test_job_runner: worker threads, progress, cancellation). Any race report fails the test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-targets=(test_nurbs test_geometry test_ffd test_mesh replay_plot3d)
+targets=(test_nurbs test_geometry test_ffd test_mesh replay_plot3d replay_iges replay_iges_text replay_step)
 cmake --preset asan > /dev/null
 cmake --build --preset asan --target "${targets[@]}" -j"$(nproc)"
-ctest --preset asan -L "^(test_(nurbs|geometry|ffd|mesh)|replay_plot3d)$" -j2 --timeout 900
+ctest --preset asan -L "^(test_(nurbs|geometry|ffd|mesh)|replay_(plot3d|iges|iges_text|step))$" -j2 --timeout 900
 
 tsan_targets=(test_threads test_job_runner)
 cmake --preset tsan > /dev/null
