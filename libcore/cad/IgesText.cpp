@@ -228,7 +228,7 @@ File parse(const std::string& text, const std::string& path) {
             const std::string_view number =
                 trim(std::string_view(line).substr(73, std::min<std::size_t>(line.size() - 73, 7)));
             const bool digits = !number.empty() && number.find_first_not_of("0123456789") == std::string_view::npos;
-            if (!digits || number.size() > 7 || std::stoul(std::string(number)) != expected)
+            if (!digits || std::stoul(std::string(number)) != expected)  // at most 7 digits
                 failFile(path, "line " + std::to_string(lineNumber) + ": directory line " +
                                    std::to_string(expected) +
                                    (number.empty() ? std::string(" has no sequence number")

@@ -1,7 +1,6 @@
 #include "geometry/Planform.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -135,7 +134,8 @@ Planform planform(const PatchSet& set) {
         for (std::size_t k = 0; k < g.xyz.size() / 3; ++k) {
             const double x = g.xyz[3 * k], y = g.xyz[3 * k + 1], z = g.xyz[3 * k + 2];
             if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-                throw GeometryError("the planform: " + set.describe(static_cast<int>(p)) + " evaluates to a non-finite point");
+                throw GeometryError("the planform: " + set.describe(static_cast<int>(p)) +
+                                    " evaluates to a non-finite point");
             }
             xmin = std::min(xmin, x);
             xmax = std::max(xmax, x);

@@ -8,11 +8,12 @@
 // ratio span^2 / S.
 //
 // How: every patch is sampled on a parameter grid that refines each knot span (64 intervals per
-// direction, fewer when thousands of patches would exceed about 2 million samples; the shadow is the
-// union of the sampled quadrilaterals' projections, inscribed in the true one), the union is
-// rasterized on a 1024-cell grid over its extent (pixel centres counted once however many
-// quadrilaterals cover them), and the largest |y| is refined by zooming in on the best sample.
-// The half-sphere's half-disk comes out within 4e-5 of pi/2 (in 30-50 ms) and its half-span within 1e-9 of 1.
+// direction, fewer when thousands of patches would exceed about 2 million samples); the shadow,
+// the union of the sampled quadrilaterals' projections, is rasterized on 1,024 cells along its
+// longer side (cell centres counted once however many quadrilaterals cover them); the largest y
+// is refined by zooming in on the best sample (the lowest y of a whole body is not). The
+// half-sphere's half-disk comes out within 4e-5 of pi/2, in 30-50 ms, and its half-span is 1 to
+// the patches' own accuracy (2e-5).
 #include "geometry/PatchSet.h"
 
 namespace aero::geometry {

@@ -287,7 +287,8 @@ private:
         if (r.kind == Kind::Values) {
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
                  csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
-                 csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," + planformFields(r.planform) + "," +
+                 csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
+                 planformFields(r.planform) + "," +
                  csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," +
                  csvNumber(r.wallBend != 0 ? r.wallBend : kNaN) + "," + csvNumber(r.ok ? r.maxMach : kNaN) + "," +
                  csvNumber(r.ok ? r.maxEntropy : kNaN) + "," + csvNumber(r.alphaDeg) + "," +

@@ -608,7 +608,8 @@ TEST(IgesText, NumbersBeyondDoublePrecisionAreRefused) {
     // The first parameter line whose data starts with a number: its first value overflows.
     std::size_t at = std::string::npos;
     for (std::size_t k = 0; k < text.size(); k = text.find('\n', k) + 1) {
-        if (text.size() >= k + 80 && text[k + 72] == 'P' && (std::isdigit(static_cast<unsigned char>(text[k])) || text[k] == '-')) {
+        const bool startsWithValue = std::isdigit(static_cast<unsigned char>(text[k])) || text[k] == '-';
+        if (text.size() >= k + 80 && text[k + 72] == 'P' && startsWithValue) {
             const std::size_t comma = text.find_first_of(",;", k);
             if (comma != std::string::npos && comma < k + 64 && comma - k >= 7 && text.substr(k, 4) != "126," &&
                 text.substr(k, 4) != "110," && text.substr(k, 4) != "128,") {
