@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/Error.h"
+#include "nurbs/Basis.h"
 #include "nurbs/Surface.h"
 
 namespace aero::geometry {
@@ -16,30 +17,16 @@ constexpr int kSamplesPerPatch = 64;  // parameter intervals per direction, at m
 constexpr long kSampleBudget = 1L << 21;  // ... and about this many samples over all patches (48 MB)
 constexpr int kPixels = 1024;          // raster cells along the shadow's longer side
 
-// Parameters from the first to the last knot, every distinct knot span cut into equal parts, at
-// least `total` intervals in all (a kink at a knot stays a sample); a patch of more than 1,024
-// spans is sampled uniformly at 1,024 intervals.
-std::vector<double> parameterSamples(const std::vector<double>& knots, int degree, int total) {
-    const double first = knots[static_cast<std::size_t>(degree)];
-    const double last = knots[knots.size() - 1 - static_cast<std::size_t>(degree)];
-    std::vector<double> breaks;
-    for (std::size_t k = static_cast<std::size_t>(degree); k < knots.size() - static_cast<std::size_t>(degree); ++k) {
-        if (breaks.empty() || knots[k] > breaks.back()) breaks.push_back(knots[k]);
-    }
-    const int spans = std::max(1, static_cast<int>(breaks.size()) - 1);
+// Every knot span cut into equal parts, at least `total` intervals in all (nurbs::spanSamples);
+// a patch of more than 1,024 spans is sampled uniformly at 1,024 intervals.
+std::vector<double> parameterSamples(const std::vector<double>& knots, int total) {
+    const int spans = std::max(1, nurbs::nonEmptySpans(knots));
     if (spans > 1024) {  // thousands of knot spans: uniform samples (the knots' kinks may fall between)
         std::vector<double> t(1025);
-        for (int i = 0; i <= 1024; ++i) t[i] = first + (last - first) * i / 1024;
+        for (int i = 0; i <= 1024; ++i) t[i] = knots.front() + (knots.back() - knots.front()) * i / 1024;
         return t;
     }
-    const int per = std::max(1, (total + spans - 1) / spans);
-    std::vector<double> t;
-    for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
-        for (int i = 0; i < per; ++i) t.push_back(breaks[b] + (breaks[b + 1] - breaks[b]) * i / per);
-    }
-    t.push_back(last);
-    t.front() = first;
-    return t;
+    return nurbs::spanSamples(knots, std::max(1, (total + spans - 1) / spans));
 }
 
 struct Sampled {
@@ -126,8 +113,8 @@ Planform planform(const PatchSet& set) {
     for (std::size_t p = 0; p < set.patches.size(); ++p) {
         const nurbs::Surface<double>& s = set.patches[p];
         Sampled& g = grids[p];
-        g.us = parameterSamples(s.knotsU, s.degreeU, perPatch);
-        g.vs = parameterSamples(s.knotsV, s.degreeV, perPatch);
+        g.us = parameterSamples(s.knotsU, perPatch);
+        g.vs = parameterSamples(s.knotsV, perPatch);
         g.xyz.resize(3 * g.us.size() * g.vs.size());
         nurbs::sampleGrid(s, g.us, g.vs, g.xyz.data());
         const int nu = static_cast<int>(g.us.size());

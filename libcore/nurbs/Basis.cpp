@@ -201,4 +201,21 @@ template void basisDerivatives<std::complex<double>>(std::span<const double>, in
                                                       const std::complex<double>&, int,
                                                       std::complex<double>*);
 
+std::vector<double> spanSamples(std::span<const double> knots, int perSpan) {
+    std::vector<double> s;
+    for (std::size_t i = 0; i + 1 < knots.size(); ++i) {
+        if (knots[i + 1] > knots[i]) {
+            for (int t = 0; t < perSpan; ++t) s.push_back(knots[i] + (knots[i + 1] - knots[i]) * t / perSpan);
+        }
+    }
+    s.push_back(knots.back());
+    return s;
+}
+
+int nonEmptySpans(std::span<const double> knots) {
+    int n = 0;
+    for (std::size_t i = 0; i + 1 < knots.size(); ++i) n += knots[i + 1] > knots[i] ? 1 : 0;
+    return n;
+}
+
 }  // namespace aero::nurbs

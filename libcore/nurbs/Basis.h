@@ -34,4 +34,11 @@ void basisDerivatives(std::span<const double> knots, int degree, int span, const
 /// Uniform clamped knot vector on [0,1] for `count` functions of degree `degree`.
 std::vector<double> uniformKnots(int degree, int count);
 
+/// Parameter values sampling every non-empty knot span with `perSpan` intervals, from the first
+/// knot to the last (a clamped vector's domain; a kink at a knot stays a sample).
+std::vector<double> spanSamples(std::span<const double> knots, int perSpan);
+
+/// The number of non-empty knot spans.
+int nonEmptySpans(std::span<const double> knots);
+
 }  // namespace aero::nurbs

@@ -11,18 +11,6 @@ namespace aero::nurbs {
 
 namespace {
 
-// Parameter values sampling every non-empty knot span with `perSpan` intervals.
-std::vector<double> spanSamples(const std::vector<double>& knots, int perSpan) {
-    std::vector<double> s;
-    for (std::size_t i = 0; i + 1 < knots.size(); ++i) {
-        if (knots[i + 1] > knots[i]) {
-            for (int t = 0; t < perSpan; ++t) s.push_back(knots[i] + (knots[i + 1] - knots[i]) * t / perSpan);
-        }
-    }
-    s.push_back(knots.back());
-    return s;
-}
-
 double clampTo(double x, double lo, double hi) { return std::min(std::max(x, lo), hi); }
 
 }  // namespace

@@ -165,7 +165,7 @@ OptimizationRecord fromJson(const Json& j, const std::string& where) {
             r.volume = number(j.at("volume"));
             if (j.contains("projected_area")) {
                 r.planform.halfSpan = number(j.at("half_span"));
-                r.planform.projectedArea = number(j["projected_area"]);
+                r.planform.projectedArea = number(j.at("projected_area"));
                 r.planform.aspectRatio = number(j.at("aspect_ratio"));
             }
             if (j.contains("corner_ratio")) r.cornerRatio = number(j["corner_ratio"]);
