@@ -51,7 +51,9 @@ BENCHMARK_CAPTURE(BM_Regenerate, coarse, "coarse")->Unit(benchmark::kMillisecond
 // Arg 0: the default solver (IC-preconditioned CG), a first move (its stiffness layout built and
 // its memory touched for the first time); 1: the sparse Cholesky (CHOLMOD) of every increment;
 // 2: the default solver with the MoveWorkspace of an earlier move of the same grid (the
-// optimizer's evaluations and the editor's previews after the first).
+// optimizer's evaluations and the editor's previews after the first); 3: the same, recording the
+// move's history and keeping each increment's K and factor for the mesh adjoint
+// (MoveWorkspace::setKeepIncrements, as the optimizer's evaluations run).
 void BM_ControlGridMove(benchmark::State& state, const char* level) {
     const mesh::MultiBlockMesh base = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
     mesh::MoveReport r;
@@ -59,13 +61,17 @@ void BM_ControlGridMove(benchmark::State& state, const char* level) {
     if (state.range(0) == 1) o.solver = mesh::ElasticityOptions::Solver::Direct;
     const std::vector<double>& surface = bwbSurface();  // the deformation itself is not timed
     mesh::MoveWorkspace kept;
-    if (state.range(0) == 2) {
+    kept.setKeepIncrements(state.range(0) == 3);
+    mesh::MoveHistory history;
+    mesh::MoveHistory* recorded = state.range(0) == 3 ? &history : nullptr;
+    const bool warm = state.range(0) >= 2;
+    if (warm) {
         mesh::MultiBlockMesh m = base;
-        mesh::moveControlGrid(m, surface, o, {}, nullptr, nullptr, &kept);
+        mesh::moveControlGrid(m, surface, o, {}, nullptr, recorded, &kept);
     }
     for (auto _ : state) {
         mesh::MultiBlockMesh m = base;
-        r = mesh::moveControlGrid(m, surface, o, {}, nullptr, nullptr, state.range(0) == 2 ? &kept : nullptr);
+        r = mesh::moveControlGrid(m, surface, o, {}, nullptr, recorded, warm ? &kept : nullptr);
         benchmark::DoNotOptimize(m.control.data());
     }
     state.counters["control_nodes"] = base.controlCount();
@@ -73,18 +79,20 @@ void BM_ControlGridMove(benchmark::State& state, const char* level) {
     state.counters["converged"] = r.status == mesh::SolveStatus::Converged;
     state.counters["direct_solves"] = r.directSolves;
 }
-BENCHMARK_CAPTURE(BM_ControlGridMove, paper, "paper")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_ControlGridMove, coarse, "coarse")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ControlGridMove, paper, "paper")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ControlGridMove, coarse, "coarse")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // The mesh adjoint (issue #16): the move's six increments in reverse for `rhs` functionals at once,
 // on the moved control grid of the blended-wing deformation; compare with BM_ControlGridMove (the
-// forward move) in the same run. Second argument 1: with the forward move's MoveWorkspace (as the
-// optimizer's gradient runs it).
+// forward move) in the same run. Second argument 1: with the forward move's MoveWorkspace; 2: and
+// that move's K and factors kept (MoveWorkspace::setKeepIncrements, as the optimizer's gradient
+// runs it).
 void BM_MeshAdjoint(benchmark::State& state, const char* level) {
     const mesh::MultiBlockMesh base = mesh::extrudeToFarfield(geometry::makeHalfSphere(), mesh::extrusionLevel(level));
     mesh::MultiBlockMesh m = base;
     mesh::MoveHistory history;
     mesh::MoveWorkspace kept;
+    kept.setKeepIncrements(state.range(1) == 2);
     const mesh::MoveReport r = mesh::moveControlGrid(m, bwbSurface(), mesh::ElasticityOptions{}, {}, nullptr, &history, &kept);
     const int rhs = static_cast<int>(state.range(0));
     std::vector<std::vector<double>> g(rhs, std::vector<double>(m.control.size()));
@@ -94,7 +102,7 @@ void BM_MeshAdjoint(benchmark::State& state, const char* level) {
     mesh::MeshAdjointReport rep;
     for (auto _ : state) {
         const auto gA = mesh::moveControlGridAdjoints(m, history, mesh::ElasticityOptions{}, g, &rep,
-                                                      state.range(1) == 1 ? &kept : nullptr);
+                                                      state.range(1) >= 1 ? &kept : nullptr);
         benchmark::DoNotOptimize(gA.data());
     }
     int its = 0;
@@ -103,9 +111,11 @@ void BM_MeshAdjoint(benchmark::State& state, const char* level) {
     state.counters["cg_iterations"] = its;
     state.counters["forward_cg_iterations"] = r.totalIterations;
     state.counters["converged"] = rep.converged;
+    state.counters["reused_increments"] = rep.reusedIncrements;
+    state.counters["kept_mb"] = static_cast<double>(rep.keptBytes) / 1e6;
 }
-BENCHMARK_CAPTURE(BM_MeshAdjoint, coarse, "coarse")->Args({1, 0})->Args({2, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_MeshAdjoint, paper, "paper")->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_MeshAdjoint, coarse, "coarse")->Args({1, 0})->Args({2, 0})->Args({1, 1})->Args({1, 2})->Args({2, 2})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_MeshAdjoint, paper, "paper")->Args({1, 1})->Args({1, 2})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // N^T (the regeneration's transpose, for the grid sensitivities) against N in the same run.
 void BM_RegenerateTranspose(benchmark::State& state, const char* level) {

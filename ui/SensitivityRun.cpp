@@ -49,6 +49,7 @@ SensitivityResult runSensitivities(const SensitivityInput& in, const Sensitivity
     io::CaseFile c = in.caseFile;
     c.flow.present = true;
     study::CaseEvaluator ev(c, in.baseline);  // throws for a bad case
+    ev.moveWorkspace().setKeepIncrements(true);  // the mesh adjoint reuses the move's K and factors
     if (!ev.model()) {
         r.message = "the project has no lattice: there is nothing to differentiate with respect to";
         return r;

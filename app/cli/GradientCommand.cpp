@@ -103,6 +103,7 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
         if (!c.flow.present) throw CaseError("'" + casePath + "': the case has no \"flow\" section (the functionals need a flow)");
         for (const std::string& n : names) study::checkGradientFunctional(n);
         study::CaseEvaluator ev(c, loadPatchSet(c.geometry), [&](const std::string& s) { say(cmd, s); });
+        ev.moveWorkspace().setKeepIncrements(true);  // the mesh adjoint reuses the move's K and factors
         const study::Evaluation e = evaluateOrThrow(ev, ev.caseValues(), cmd, false, "the case's design");
         say(cmd, format("flow converged: CL %.6f, CD %.6f, %d iterations, %.1f s", e.flow->forces.CL, e.flow->forces.CD,
                      e.flow->report.iterations, e.secondsFlow));
@@ -154,6 +155,8 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
                             {"chain", g.secondsChain},
                             {"gradient", g.seconds()}};
             j["stored_increments_mb"] = g.historyBytes / 1e6;
+            j["kept_stiffness_mb"] = g.meshAdjoint.keptBytes / 1e6;  // 0 when the mesh adjoint assembled them again
+            j["mesh_adjoint_reused_increments"] = g.meshAdjoint.reusedIncrements;
             j["peak_memory_mb"] = peakMemoryMb();
             std::printf("%s\n", j.dump(2).c_str());
             return kOk;
@@ -194,6 +197,7 @@ int runGradientCheck(const std::string& casePath, const std::string& name, doubl
                      c.mesh.elasticity.tolerance));
         const geometry::PatchSet geometry = loadPatchSet(c.geometry);
         study::CaseEvaluator ev(c, geometry, [&](const std::string& s) { say(cmd, s); });
+        ev.moveWorkspace().setKeepIncrements(true);  // the mesh adjoint reuses the move's K and factors
         const std::vector<double> v0 = ev.caseValues();
         const study::Evaluation e = evaluateOrThrow(ev, v0, cmd, false, "the case's design");
         study::GradientOptions o;

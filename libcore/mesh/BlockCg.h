@@ -10,6 +10,8 @@
 // factorization (linked lists, diagonal scaling, re-factoring with doubled shifts) took a third
 // of the move, and the scalar pattern carries 9 column indices where the block pattern carries 1.
 #include <array>
+#include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace aero::mesh {
@@ -50,6 +52,22 @@ public:
     /// time per object.
     void solve(const double* r, double* z) const;
     double shift() const { return shift_; }
+    /// The factor the solves read (rounded to float) and its shift, held apart from the object.
+    struct Factor {
+        std::vector<float> lower, pivot;
+        double shift = 0;
+        std::size_t bytes() const { return (lower.capacity() + pivot.capacity()) * sizeof(float); }
+    };
+    /// Exchanges the solves' factor with f (no copy): a caller that factors a sequence of matrices
+    /// of one pattern (the move's increments) keeps each factor and swaps it back in for later
+    /// solves with the same matrix (the mesh adjoint's). compute() into a swapped-in Factor reuses
+    /// its buffers. The ordering stays the object's: only for matrices of the pattern it was
+    /// computed for.
+    void swapFactor(Factor& f) {
+        lowerSingle_.swap(f.lower);
+        pivotSingle_.swap(f.pivot);
+        std::swap(shift_, f.shift);
+    }
     /// Rows in the first part, the second part and the separator.
     std::array<int, 3> partSizes() const { return {partEnd_[0], partEnd_[1] - partEnd_[0], rows_ - partEnd_[1]}; }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <complex>
+#include <optional>
 
 #include "common/Error.h"
 #include "common/Scalar.h"
@@ -451,6 +452,19 @@ struct StiffnessLayout {
     BlockIncompleteCholesky preconditioner;
     CgWorkspace cg;                               // the solves' work vectors
     std::vector<std::vector<double>> guessBasis;  // the earlier solutions on the free DOFs
+    // MoveWorkspace::setKeepIncrements: each increment's K_ff values and factor of the last move
+    // that recorded a history (`keptStamp`, 0 when none is whole), for its mesh adjoint. They are
+    // swapped in and out of A and the preconditioner (no copies): the increment assembles and
+    // factors straight into its own buffers.
+    struct KeptIncrement {
+        std::vector<double> values;
+        BlockIncompleteCholesky::Factor factor;
+        bool factored = false;  // the incomplete factorization succeeded
+        double meanVolume = 0;
+    };
+    std::vector<KeptIncrement> kept;
+    std::uint64_t keptStamp = 0;
+    ElasticityOptions keptOptions;
     int size() const { return 3 * blockRows; }
 };
 
@@ -647,10 +661,14 @@ FreeSystem assembleFree(const MultiBlockMesh& m, StiffnessLayout& L, const std::
 // the factors (the mesh adjoint's functionals share each increment's K).
 class FreeSolver {
 public:
-    FreeSolver(const Block3Matrix& A, BlockIncompleteCholesky& ic, CgWorkspace& work, const ElasticityOptions& o)
+    // `keptFactor`: ic already holds A's factorization (a kept increment's), and whether it
+    // succeeded; otherwise it is computed here.
+    FreeSolver(const Block3Matrix& A, BlockIncompleteCholesky& ic, CgWorkspace& work, const ElasticityOptions& o,
+               std::optional<bool> keptFactor = std::nullopt)
         : A_(A), o_(o), ic_(ic), work_(work) {
-        if (o.solver != ElasticityOptions::Solver::Direct) preconditioned_ = ic_.compute(A);
+        if (o.solver != ElasticityOptions::Solver::Direct) preconditioned_ = keptFactor ? *keptFactor : ic_.compute(A);
     }
+    bool preconditioned() const { return preconditioned_; }
 
     // x0: the starting guess. Fills the report fields of r (iterations, residual, converged,
     // direct, message).
@@ -732,12 +750,40 @@ private:
 
 namespace {
 
-// `previous`: earlier solutions of similar systems (all DOFs), for the starting guess.
+// Puts a kept increment's K_ff values and factor into the layout's A and preconditioner for its
+// lifetime (swaps, no copies), and back into the kept increment after.
+class SwappedIn {
+public:
+    SwappedIn(StiffnessLayout& L, StiffnessLayout::KeptIncrement& k) : L_(L), k_(k) { swap(); }
+    ~SwappedIn() { swap(); }
+    SwappedIn(const SwappedIn&) = delete;
+    SwappedIn& operator=(const SwappedIn&) = delete;
+
+private:
+    void swap() {
+        L_.A.values.swap(k_.values);
+        L_.preconditioner.swapFactor(k_.factor);
+    }
+    StiffnessLayout& L_;
+    StiffnessLayout::KeptIncrement& k_;
+};
+
+// `previous`: earlier solutions of similar systems (all DOFs), for the starting guess. `keep`
+// (optional): the increment assembles and factors into these buffers, which keep K_ff, its
+// factor and the mean cell volume after.
 IncrementResult solveIncrement(const MultiBlockMesh& m, StiffnessLayout& layout, const std::vector<double>& prescribed,
-                               const ElasticityOptions& o, const std::vector<std::vector<double>>& previous) {
+                               const ElasticityOptions& o, const std::vector<std::vector<double>>& previous,
+                               StiffnessLayout::KeptIncrement* keep = nullptr) {
     const int ndof = static_cast<int>(m.control.size());
     IncrementResult r;
+    std::optional<SwappedIn> swapped;
+    if (keep) {
+        keep->values.resize(layout.A.values.size());
+        keep->factored = false;
+        swapped.emplace(layout, *keep);
+    }
     const FreeSystem s = assembleFree(m, layout, prescribed, o);
+    if (keep) keep->meanVolume = s.meanVolume;
     if (s.invalidCell) {
         r.invalidCell = true;
         r.message = s.message;
@@ -754,6 +800,7 @@ IncrementResult solveIncrement(const MultiBlockMesh& m, StiffnessLayout& layout,
     }
     const std::vector<double> x0 = galerkinGuess(layout.A, basis, layout.rhs, layout.cg);
     FreeSolver solver(layout.A, layout.preconditioner, layout.cg, o);
+    if (keep) keep->factored = solver.preconditioned();
     const std::vector<double> sol = solver.solve(layout.rhs, x0, r);
     r.u.assign(ndof, 0.0);
     for (int d = 0; d < ndof; ++d) {
@@ -807,6 +854,13 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
     if (history) *history = {};
     MoveWorkspace local;
     StiffnessLayout& layout = (workspace ? *workspace : local).layoutFor(m, constrained);
+    // Each increment's K and factor kept for the mesh adjoint of this history: valid (the stamp
+    // set) once every increment has been solved.
+    const bool keep = history && workspace && workspace->keepsIncrements();
+    if (keep) {
+        layout.keptStamp = 0;
+        layout.kept.resize(o.increments);
+    }
     std::vector<std::vector<double>> previous;  // the earlier increments' solutions
     for (int inc = 1; inc <= o.increments; ++inc) {
         if (cancel && cancel->load()) {
@@ -817,7 +871,7 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         // Each increment prescribes 1/m of the wall motion relative to the current grid.
         std::vector<double> prescribed(m.control.size(), 0.0);
         for (std::size_t d = 0; d < delta.size(); ++d) prescribed[d] = delta[d] / o.increments;
-        const IncrementResult r = solveIncrement(m, layout, prescribed, o, previous);
+        const IncrementResult r = solveIncrement(m, layout, prescribed, o, previous, keep ? &layout.kept[inc - 1] : nullptr);
         if (r.invalidCell) {
             rep.status = SolveStatus::InvalidCell;
             rep.message = "increment " + std::to_string(inc) + " of " + std::to_string(o.increments) + ": " + r.message +
@@ -847,9 +901,22 @@ MoveReport moveControlGrid(MultiBlockMesh& m, const std::vector<double>& surface
         for (std::size_t u = 0; u < m.surfaceNode.size(); ++u) {
             for (int c = 0; c < 3; ++c) m.control[3 * static_cast<std::size_t>(m.surfaceNode[u]) + c] = surface[3 * u + c];
         }
+        if (keep) {
+            static std::atomic<std::uint64_t> moves{0};
+            history->stamp = layout.keptStamp = ++moves;
+            layout.keptOptions = o;
+        }
     }
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return rep;
+}
+
+std::size_t MoveWorkspace::keptBytes() const {
+    std::size_t n = 0;
+    if (layout_) {
+        for (const auto& k : layout_->kept) n += k.values.capacity() * sizeof(double) + k.factor.bytes();
+    }
+    return n;
 }
 
 std::size_t MoveHistory::bytes() const {
@@ -1125,6 +1192,15 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
         for (int a = 0; a < 8; ++a) wall = wall || wallNode[cells.nodes[8 * c + a]];
         if (wall) wallCells.push_back(c);
     }
+    // The forward move's K and factors, when this workspace kept them for this history with the
+    // same options (the same matrices to the bit: assembling them again gives the same values).
+    auto sameOptions = [&](const ElasticityOptions& k) {
+        return k.poisson == o.poisson && k.sizeStiffening == o.sizeStiffening &&
+               k.orthogonalityStiffening == o.orthogonalityStiffening && k.solver == o.solver;
+    };
+    const bool reuse = history.stamp != 0 && layout.keptStamp == history.stamp &&
+                       static_cast<int>(layout.kept.size()) == increments && sameOptions(layout.keptOptions);
+    if (reuse) rep.keptBytes = (workspace ? *workspace : local).keptBytes();
     AdjointScratch scratch;
     std::vector<double> Kl(ndof, 0.0);
     std::vector<std::vector<double>> gK;
@@ -1135,13 +1211,25 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
         // b^(i) = b^(i-1) + u^(i): ubar = gb. u_f solves K_ff u_f = -K_fc u_c, so
         // K_ff lambda = ubar_f, the prescribed values get ubar_c - (K lambda)_c, and b^(i-1) gets
         // -d(lambda^T K u)/db. One K and one factorization for all right-hand sides.
-        const FreeSystem s = assembleFree(grid, layout, zero, o);
-        if (s.invalidCell) {
-            rep.converged = false;
-            rep.message = "increment " + std::to_string(inc) + ": " + s.message;
-            break;
+        std::optional<SwappedIn> swapped;
+        std::optional<bool> keptFactor;
+        double meanVolume = 0;
+        if (reuse) {
+            StiffnessLayout::KeptIncrement& k = layout.kept[inc - 1];
+            swapped.emplace(layout, k);
+            keptFactor = k.factored;
+            meanVolume = k.meanVolume;
+            ++rep.reusedIncrements;
+        } else {
+            const FreeSystem s = assembleFree(grid, layout, zero, o);
+            if (s.invalidCell) {
+                rep.converged = false;
+                rep.message = "increment " + std::to_string(inc) + ": " + s.message;
+                break;
+            }
+            meanVolume = s.meanVolume;
         }
-        FreeSolver solver(layout.A, layout.preconditioner, layout.cg, o);
+        FreeSolver solver(layout.A, layout.preconditioner, layout.cg, o, keptFactor);
         std::vector<std::vector<double>> lambdas(nr, std::vector<double>(ndof, 0.0));
         for (std::size_t p = 0; p < nr && rep.converged; ++p) {
             std::vector<double> rhs(layout.size(), 0.0);
@@ -1163,7 +1251,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
             for (std::size_t d = 0; d < ndof; ++d) {
                 if (layout.freeIndex[d] >= 0) lambdas[p][d] = sol[layout.freeIndex[d]];
             }
-            wallStiffnessProduct(grid, cells, wallCells, wallNode, s.meanVolume, o, lambdas[p], scratch.wallContribution, Kl);
+            wallStiffnessProduct(grid, cells, wallCells, wallNode, meanVolume, o, lambdas[p], scratch.wallContribution, Kl);
             for (std::size_t sn = 0; sn < m.surfaceNode.size(); ++sn) {
                 for (int c = 0; c < 3; ++c) {
                     const std::size_t d = 3 * static_cast<std::size_t>(m.surfaceNode[sn]) + c;
@@ -1172,7 +1260,7 @@ std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m
             }
         }
         if (!rep.converged) break;
-        stiffnessProductGradientsInto(grid, cells, s.meanVolume, o, lambdas, u, scratch, gK);
+        stiffnessProductGradientsInto(grid, cells, meanVolume, o, lambdas, u, scratch, gK);
         for (std::size_t p = 0; p < nr; ++p) {
             for (std::size_t d = 0; d < ndof; ++d) gb[p][d] -= gK[p][d];
         }

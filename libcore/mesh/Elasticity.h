@@ -5,6 +5,7 @@
 // Boundary conditions come from the block faces: wall nodes follow the geometry control points,
 // farfield nodes are fixed, symmetry-plane nodes (Y = 0) slide in the plane (u_y = 0).
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -135,6 +136,9 @@ std::vector<char> boundaryConstraints(const MultiBlockMesh& m);
 /// increment's displacement u^(i) (3 per control node each).
 struct MoveHistory {
     std::vector<std::vector<double>> before, displacement;
+    /// Identifies the move that recorded it, for the operators a MoveWorkspace kept of that move
+    /// (0: none kept). Unique in the process.
+    std::uint64_t stamp = 0;
     std::size_t bytes() const;
 };
 
@@ -156,10 +160,21 @@ public:
     StiffnessLayout& layoutFor(const MultiBlockMesh& m, const std::vector<char>& constrained);
     /// How many layouts have been built (a rebuild per call means the workspace is not reused).
     int builds() const { return builds_; }
+    /// When set, a move that records a MoveHistory keeps each increment's stiffness matrix K_ff
+    /// and its incomplete factorization here (6 matrices at ~1.7 KB per control node each: 138 MB
+    /// at the paper level, 64 MB at the coarse one), and the mesh adjoint of that history with
+    /// this workspace solves with them instead of assembling and factoring them again (the same
+    /// bits). For a caller that computes gradients (the optimizer, `aeroform-cli gradient`, the
+    /// GUI's sensitivities); a preview does not need the memory.
+    void setKeepIncrements(bool keep) { keep_ = keep; }
+    bool keepsIncrements() const { return keep_; }
+    /// The memory of the kept increments' matrices and factors.
+    std::size_t keptBytes() const;
 
 private:
     std::unique_ptr<StiffnessLayout> layout_;
     int builds_ = 0;
+    bool keep_ = false;
 };
 
 /// Moves b so that its surface nodes reach `surface` (3 per unique geometry control point), in
@@ -191,6 +206,8 @@ struct MeshAdjointReport {
     bool converged = true;
     std::vector<int> iterations;  // per increment (reverse order of the forward move)
     int directSolves = 0;
+    int reusedIncrements = 0;     // increments solved with the forward move's kept K and factor
+    std::size_t keptBytes = 0;    // the memory of those kept operators (MoveWorkspace::keptBytes)
     double seconds = 0;
     std::string message;          // the reason, when not converged
 };
@@ -204,7 +221,9 @@ struct MeshAdjointReport {
 std::vector<double> moveControlGridAdjoint(const MultiBlockMesh& m, const MoveHistory& history,
                                            const ElasticityOptions& o, const std::vector<double>& gFinal,
                                            MeshAdjointReport* report = nullptr);
-/// The same for several functionals: each increment's K is assembled and factored once.
+/// The same for several functionals: each increment's K is assembled and factored once, or taken
+/// from `workspace` when it kept them from `history`'s move (MoveWorkspace::setKeepIncrements)
+/// with the same options.
 std::vector<std::vector<double>> moveControlGridAdjoints(const MultiBlockMesh& m, const MoveHistory& history,
                                                          const ElasticityOptions& o,
                                                          const std::vector<std::vector<double>>& gFinals,

@@ -475,6 +475,77 @@ TEST(MeshAdjoint, ReverseSweepMatchesFiniteDifferencesOfTheMove) {
     EXPECT_GT(std::abs(dotProduct(gA1, dA) - fd), 1e-4 * std::abs(fd));
 }
 
+// MoveWorkspace::setKeepIncrements: the move keeps each increment's K and factor, and the mesh
+// adjoint of that move's history solves with them instead of assembling and factoring again -
+// the same bits as the adjoint that assembles (and as the move without keeping). Only the history
+// whose move filled them is served: after another recorded move (or with other options) the
+// adjoint assembles again, and a move that records no history leaves them alone.
+TEST(Elasticity, KeptIncrementsServeTheMeshAdjointOfTheirOwnMoveOnly) {
+    const MultiBlockMesh base = extrudeToFarfield(geometry::makeHalfSphere(), extrusionLevel("coarse"));
+    auto deformed = [&](double a) {
+        std::vector<double> surface(3 * base.surfaceNode.size());
+        for (std::size_t u = 0; u < base.surfaceNode.size(); ++u) {
+            const double* p = &base.control[3 * base.surfaceNode[u]];
+            surface[3 * u] = p[0] * (1 + a * p[1]);
+            surface[3 * u + 1] = (1 + 2 * a) * p[1];
+            surface[3 * u + 2] = (1 - 1.5 * a) * p[2] + 0.2 * a * p[0];
+        }
+        return surface;
+    };
+    const ElasticityOptions o;
+    const std::vector<double> gbar = seededVector(base.control.size(), 9);
+    const std::vector<double> gbar2 = seededVector(base.control.size(), 10);
+    // The references: no workspace, so everything is assembled.
+    MultiBlockMesh plain = base;
+    MoveHistory hPlain;
+    ASSERT_EQ(moveControlGrid(plain, deformed(0.2), o, {}, nullptr, &hPlain).status, SolveStatus::Converged);
+    EXPECT_EQ(hPlain.stamp, 0u);
+    const auto reference = moveControlGridAdjoints(base, hPlain, o, {gbar, gbar2});
+
+    MoveWorkspace kept;
+    kept.setKeepIncrements(true);
+    MultiBlockMesh m = base;
+    MoveHistory h;
+    const MoveReport r = moveControlGrid(m, deformed(0.2), o, {}, nullptr, &h, &kept);
+    ASSERT_EQ(r.status, SolveStatus::Converged) << r.message;
+    EXPECT_EQ(m.control, plain.control);
+    EXPECT_NE(h.stamp, 0u);
+    EXPECT_GT(kept.keptBytes(), static_cast<std::size_t>(o.increments) * 9 * sizeof(double) * base.controlCount());
+    MeshAdjointReport rep;
+    const auto gKept = moveControlGridAdjoints(base, h, o, {gbar, gbar2}, &rep, &kept);
+    ASSERT_TRUE(rep.converged) << rep.message;
+    EXPECT_EQ(rep.reusedIncrements, o.increments);
+    EXPECT_EQ(rep.keptBytes, kept.keptBytes());
+    EXPECT_EQ(gKept, reference);
+    // Served again (the buffers went back to where they were kept), also across a move that
+    // records no history in the same workspace.
+    MultiBlockMesh preview = base;
+    ASSERT_EQ(moveControlGrid(preview, deformed(0.1), o, {}, nullptr, nullptr, &kept).status, SolveStatus::Converged);
+    const auto again = moveControlGridAdjoints(base, h, o, {gbar, gbar2}, &rep, &kept);
+    EXPECT_EQ(rep.reusedIncrements, o.increments);
+    EXPECT_EQ(again, reference);
+    // Other options: assembled with those options.
+    ElasticityOptions stiffer = o;
+    stiffer.sizeStiffening = 1.5;
+    const auto otherOptions = moveControlGridAdjoints(base, h, stiffer, {gbar}, &rep, &kept);
+    EXPECT_EQ(rep.reusedIncrements, 0);
+    EXPECT_EQ(otherOptions.front(), moveControlGridAdjoints(base, h, stiffer, {gbar}).front());
+    // Another recorded move takes the buffers: the first history is assembled again, the second
+    // is served.
+    MultiBlockMesh m2 = base, plain2 = base;
+    MoveHistory h2, hPlain2;
+    ASSERT_EQ(moveControlGrid(m2, deformed(0.1), o, {}, nullptr, &h2, &kept).status, SolveStatus::Converged);
+    ASSERT_EQ(moveControlGrid(plain2, deformed(0.1), o, {}, nullptr, &hPlain2).status, SolveStatus::Converged);
+    EXPECT_NE(h2.stamp, h.stamp);
+    const auto stale = moveControlGridAdjoints(base, h, o, {gbar, gbar2}, &rep, &kept);
+    EXPECT_EQ(rep.reusedIncrements, 0);
+    EXPECT_EQ(stale, reference);
+    const auto second = moveControlGridAdjoints(base, h2, o, {gbar}, &rep, &kept);
+    EXPECT_EQ(rep.reusedIncrements, o.increments);
+    EXPECT_EQ(second.front(), moveControlGridAdjoint(base, hPlain2, o, gbar));
+    EXPECT_EQ(kept.builds(), 1);
+}
+
 // A kept MoveWorkspace (the optimizer's evaluations, the gradient's mesh adjoint) reuses the
 // stiffness layout and its buffers: the same bits as a move without one, whatever the earlier
 // moves left in the buffers; a grid of another topology gets a layout of its own.
