@@ -542,8 +542,8 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
 
     std::vector<occt::EntityFaces> converted;
     if (!occtEntities.empty())
-        converted = occt::transferIgesEntities(path, std::string(unit.igesName), occtEntities,
-                                               modelSpaceTrims);
+        converted = occt::transferIgesEntitiesIsolated(path, std::string(unit.igesName), occtEntities,
+                                                       modelSpaceTrims);
 
     PatchSet set;
     set.source = path;

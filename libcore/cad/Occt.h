@@ -55,6 +55,13 @@ struct StepFile {
 /// naming the file if it is not STEP or has no shape.
 StepFile readStep(const std::string& path);
 
+/// transferIgesEntities and readStep where cad::occtIsolation() says (cad/OcctProcess.h): in the
+/// helper process when there is one, else here. The same results to the bit; a crash or a hang of
+/// OpenCASCADE in the helper is an InputError naming the file.
+std::vector<EntityFaces> transferIgesEntitiesIsolated(const std::string& path, const std::string& occtUnit,
+                                                      const std::vector<int>& directoryEntries,
+                                                      const std::vector<char>& projectEdges);
+StepFile readStepIsolated(const std::string& path);
 /// Writes the patches as B-spline faces (trimmed ones bounded by their loops; model-space edge
 /// curves computed by OpenCASCADE) in a STEP file of `schema` ("AP214" or "AP242"), length unit
 /// set.unit (mm when empty), reals with 17 significant digits. Throws InputError if the file

@@ -55,7 +55,7 @@ geometry::PatchSet readStep(const std::string& path, ReadReport* report) {
     rep = {};
     rep.format = "STEP";
     checkStepText(path);
-    occt::StepFile file = occt::readStep(path);
+    occt::StepFile file = occt::readStepIsolated(path);
     rep.unit = file.unit;
     rep.unitSource = file.unitName.empty() ? "no length unit in the file"
                                            : "STEP length unit '" + file.unitName + "'";
