@@ -475,6 +475,21 @@ TEST(MeshAdjoint, ReverseSweepMatchesFiniteDifferencesOfTheMove) {
     EXPECT_GT(std::abs(dotProduct(gA1, dA) - fd), 1e-4 * std::abs(fd));
 }
 
+// The wall control points of `base` stretched and skewed by `a` (x grows with y, y stretched,
+// z squashed) and tilted by `tilt` a x in z: the kept-workspace tests' deformations.
+namespace {
+std::vector<double> skewedSurface(const MultiBlockMesh& base, double a, double tilt) {
+    std::vector<double> surface(3 * base.surfaceNode.size());
+    for (std::size_t u = 0; u < base.surfaceNode.size(); ++u) {
+        const double* p = &base.control[3 * base.surfaceNode[u]];
+        surface[3 * u] = p[0] * (1 + a * p[1]);
+        surface[3 * u + 1] = (1 + 2 * a) * p[1];
+        surface[3 * u + 2] = (1 - 1.5 * a) * p[2] + tilt * a * p[0];
+    }
+    return surface;
+}
+}  // namespace
+
 // MoveWorkspace::setKeepIncrements: the move keeps each increment's K and factor, and the mesh
 // adjoint of that move's history solves with them instead of assembling and factoring again -
 // the same bits as the adjoint that assembles (and as the move without keeping). Only the history
@@ -482,16 +497,7 @@ TEST(MeshAdjoint, ReverseSweepMatchesFiniteDifferencesOfTheMove) {
 // adjoint assembles again, and a move that records no history leaves them alone.
 TEST(Elasticity, KeptIncrementsServeTheMeshAdjointOfTheirOwnMoveOnly) {
     const MultiBlockMesh base = extrudeToFarfield(geometry::makeHalfSphere(), extrusionLevel("coarse"));
-    auto deformed = [&](double a) {
-        std::vector<double> surface(3 * base.surfaceNode.size());
-        for (std::size_t u = 0; u < base.surfaceNode.size(); ++u) {
-            const double* p = &base.control[3 * base.surfaceNode[u]];
-            surface[3 * u] = p[0] * (1 + a * p[1]);
-            surface[3 * u + 1] = (1 + 2 * a) * p[1];
-            surface[3 * u + 2] = (1 - 1.5 * a) * p[2] + 0.2 * a * p[0];
-        }
-        return surface;
-    };
+    auto deformed = [&](double a) { return skewedSurface(base, a, 0.2); };
     const ElasticityOptions o;
     const std::vector<double> gbar = seededVector(base.control.size(), 9);
     const std::vector<double> gbar2 = seededVector(base.control.size(), 10);
@@ -551,16 +557,7 @@ TEST(Elasticity, KeptIncrementsServeTheMeshAdjointOfTheirOwnMoveOnly) {
 // moves left in the buffers; a grid of another topology gets a layout of its own.
 TEST(Elasticity, AKeptWorkspaceGivesTheSameBitsAndIsRebuiltForAnotherGrid) {
     const MultiBlockMesh base = extrudeToFarfield(geometry::makeHalfSphere(), extrusionLevel("coarse"));
-    auto deformed = [&](double a) {
-        std::vector<double> surface(3 * base.surfaceNode.size());
-        for (std::size_t u = 0; u < base.surfaceNode.size(); ++u) {
-            const double* p = &base.control[3 * base.surfaceNode[u]];
-            surface[3 * u] = p[0] * (1 + a * p[1]);
-            surface[3 * u + 1] = (1 + 2 * a) * p[1];
-            surface[3 * u + 2] = (1 - 1.5 * a) * p[2];
-        }
-        return surface;
-    };
+    auto deformed = [&](double a) { return skewedSurface(base, a, 0.0); };
     MoveWorkspace kept;
     MultiBlockMesh first = base;
     ASSERT_EQ(moveControlGrid(first, deformed(0.3), ElasticityOptions{}, {}, nullptr, nullptr, &kept).status,
