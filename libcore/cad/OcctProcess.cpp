@@ -36,7 +36,7 @@ namespace {
 std::atomic<OcctIsolation> isolation{OcctIsolation::Process};
 
 constexpr char kMagic[8] = {'A', 'E', 'R', 'O', 'O', 'C', 'C', 'T'};
-constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::uint32_t kFormatVersion = 2;
 enum class Kind : std::uint32_t { Iges = 1, Step = 2 };
 enum class Outcome : std::uint32_t { Ok = 0, Input = 1, Geometry = 2, Other = 3 };
 
@@ -310,6 +310,15 @@ Reader runHelper(const std::string& helper, const Writer& request, const std::st
     throw Error(message);
 }
 
+// A request of `kind` from this process (its id: the helper ends if its parent is another,
+// i.e. this process ended before the helper could tie its life to it).
+Writer newRequest(Kind kind) {
+    Writer w;
+    w.pod(kind);
+    w.pod<std::int64_t>(::getpid());
+    return w;
+}
+
 std::string helperForThisCall() {
     return occtIsolation() == OcctIsolation::Process ? occtHelperPath() : std::string();
 }
@@ -353,8 +362,7 @@ std::vector<EntityFaces> transferIgesEntitiesIsolated(const std::string& path, c
                                                       const std::vector<char>& projectEdges) {
     const std::string helper = helperForThisCall();
     if (helper.empty()) return transferIgesEntities(path, occtUnit, directoryEntries, projectEdges);
-    Writer request;
-    request.pod(Kind::Iges);
+    Writer request = newRequest(Kind::Iges);
     request.text(path);
     request.text(occtUnit);
     request.values(directoryEntries);
@@ -371,8 +379,7 @@ std::vector<EntityFaces> transferIgesEntitiesIsolated(const std::string& path, c
 StepFile readStepIsolated(const std::string& path) {
     const std::string helper = helperForThisCall();
     if (helper.empty()) return readStep(path);
-    Writer request;
-    request.pod(Kind::Step);
+    Writer request = newRequest(Kind::Step);
     request.text(path);
     Reader r = runHelper(helper, request, path, "STEP");
     StepFile out;
@@ -397,12 +404,13 @@ int serveOcctRequest(int argc, char** argv) {
     // Ends with the application that started it (a conversion that never ends would outlive a
     // killed application otherwise).
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() == 1) return 3;
     setOcctIsolation(OcctIsolation::InProcess);
     Writer out;
     try {
         Reader request(readWhole(argv[1]), std::string("the request '") + argv[1] + "'");
         const auto kind = static_cast<Kind>(request.pod<std::uint32_t>());
+        // The application ended before prctl above took effect: nobody waits for the result.
+        if (request.pod<std::int64_t>() != static_cast<std::int64_t>(::getppid())) return 3;
         if (kind == Kind::Iges) {
             const std::string path = request.text();
             const std::string unit = request.text();
