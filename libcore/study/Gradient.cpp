@@ -172,7 +172,7 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     }
     res.secondsMesh = since(t);
     if (log) {
-        log(format("mesh adjoint: %.0f increments in reverse, %.1f s (%.1f MB of stored increments", 
+        log(format("mesh adjoint: %.0f increments in reverse, %.1f s (%.1f MB of stored increments",
                    static_cast<double>(history->before.size()), res.secondsMesh, res.historyBytes / 1e6) +
             (res.meshAdjoint.reusedIncrements > 0
                  ? format("; the move's %d stiffness matrices and factors reused, %.1f MB)", res.meshAdjoint.reusedIncrements,

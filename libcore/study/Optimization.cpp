@@ -375,8 +375,9 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (!c.flow.present) throw CaseError("'" + c.path + "': the optimization needs a \"flow\" section");
     if (!ev.model() || ev.variableCount() == 0) throw CaseError("'" + c.path + "': the case has no design variables to optimize");
     checkGradientFunctional(oc.objective);
-    // Every gradient follows an evaluation at the same design: its mesh adjoint reuses the move's
-    // K and factors (the evaluator keeps them from here on).
+    // A gradient usually follows the evaluation of its design: its mesh adjoint then reuses that
+    // move's K and factors (the evaluator keeps them from here on; after another evaluation the
+    // mesh adjoint assembles them again).
     ev.moveWorkspace().setKeepIncrements(true);
     const std::unique_ptr<optimize::Optimizer> optimizer = [&] {
         try {
