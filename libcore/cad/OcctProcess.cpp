@@ -263,6 +263,7 @@ Reader runHelper(const std::string& helper, const Writer& request, const std::st
         throw InputError("cannot read " + file + ": cannot write the request for OpenCASCADE's helper to '" +
                          requestFile.path() + "'");
     }
+    const double limit = occtTimeLimit();  // before the start: a bad setting must not leave a helper behind
     std::vector<std::string> args = {helper, requestFile.path(), resultFile.path()};
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
@@ -270,9 +271,10 @@ Reader runHelper(const std::string& helper, const Writer& request, const std::st
     pid_t pid = 0;
     if (const int rc = ::posix_spawn(&pid, helper.c_str(), nullptr, nullptr, argv.data(), environ); rc != 0) {
         throw InputError("cannot read " + file + ": cannot start OpenCASCADE's helper '" + helper + "': " +
-                         std::strerror(rc) + " (AEROFORM_OCCT_HELPER names another)");
+                         std::strerror(rc) +
+                         " (AEROFORM_OCCT_HELPER names the aeroform-occt program to use, or none to convert in this "
+                         "process)");
     }
-    const double limit = occtTimeLimit();
     const auto start = std::chrono::steady_clock::now();
     int status = 0;
     for (int waitMs = 1;;) {
@@ -291,7 +293,7 @@ Reader runHelper(const std::string& helper, const Writer& request, const std::st
         waitMs = std::min(2 * waitMs, 20);
     }
     if (WIFSIGNALED(status)) {
-        const char* name = ::strsignal(WTERMSIG(status));
+        const char* name = ::sigdescr_np(WTERMSIG(status));  // thread-safe, unlike strsignal
         throw InputError("cannot read " + file + ": OpenCASCADE crashed converting it (" +
                          (name ? std::string(name) : "signal " + std::to_string(WTERMSIG(status))) +
                          ", in its helper process, so nothing else was affected): the file is damaged or holds an "
