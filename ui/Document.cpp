@@ -389,15 +389,24 @@ void Document::adopt(Loaded&& in) {
     setForceModified(false);
 }
 
-void Document::newFromGeometry(const QString& path) {
-    Loaded in;
+std::shared_ptr<Document::Loaded> Document::read(const QString& path, bool project) {
+    auto in = std::make_shared<Loaded>();
     const std::string file = toStd(QFileInfo(path).absoluteFilePath());
-    in.baseline = std::make_unique<geometry::PatchSet>(loadGeometry(file, &in.message));
-    geometry::validate(*in.baseline);
-    in.c.geometry = file;
-    in.title = QFileInfo(path).fileName();
+    if (project) in->c = io::readCase(file);
+    in->baseline = std::make_unique<geometry::PatchSet>(loadGeometry(project ? in->c.geometry : file, &in->message));
+    geometry::validate(*in->baseline);
+    if (!project) in->c.geometry = file;
+    in->title = QFileInfo(path).fileName();
+    return in;
+}
+
+void Document::adoptRead(const std::shared_ptr<Loaded>& loaded) {
+    if (!loaded || !loaded->baseline) throw Error("nothing was read");
+    Loaded in = std::move(*loaded);
     adopt(std::move(in));
 }
+
+void Document::newFromGeometry(const QString& path) { adoptRead(read(path, false)); }
 
 void Document::newFromSample(bool withPaperLattice) {
     Loaded in;
@@ -410,14 +419,7 @@ void Document::newFromSample(bool withPaperLattice) {
     adopt(std::move(in));
 }
 
-void Document::openProject(const QString& path) {
-    Loaded in;
-    in.c = io::readCase(toStd(QFileInfo(path).absoluteFilePath()));
-    in.baseline = std::make_unique<geometry::PatchSet>(loadGeometry(in.c.geometry, &in.message));
-    geometry::validate(*in.baseline);
-    in.title = QFileInfo(path).fileName();
-    adopt(std::move(in));
-}
+void Document::openProject(const QString& path) { adoptRead(read(path, true)); }
 
 void Document::recover(const QString& autosavedCase, const QString& projectPath, bool generated, const QString& title) {
     Loaded in;

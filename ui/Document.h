@@ -103,6 +103,14 @@ class Document : public QObject {
     void newFromSample(bool withPaperLattice);
     /// Opens a project (case file) with its geometry.
     void openProject(const QString& path);
+    /// The slow half of newFromGeometry / openProject (`project`): reads and checks the files
+    /// into a state that is not current yet. Touches no document, so it may run on a worker
+    /// thread (ProjectFiles reads there, with a Cancel button: cad::OcctCancelScope). Throws what
+    /// those throw.
+    struct Loaded;
+    static std::shared_ptr<Loaded> read(const QString& path, bool project);
+    /// The other half, on the GUI thread: makes what read() returned current.
+    void adoptRead(const std::shared_ptr<Loaded>& loaded);
     /// Recovers an autosaved case; the document stays modified and remembers `projectPath`
     /// (may be empty) as where it belongs. `generated`: the geometry was the sample.
     void recover(const QString& autosavedCase, const QString& projectPath, bool generated, const QString& title);
@@ -198,7 +206,6 @@ class Document : public QObject {
     void titleChanged();
 
   private:
-    struct Loaded;
     /// Makes a loaded project current (builds everything first; throws and keeps the old
     /// state on failure). Clears the undo stack.
     void adopt(Loaded&& loaded);

@@ -1,19 +1,25 @@
 #include "ProjectFiles.h"
 
 #include <QDir>
+#include <QEventLoop>
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QLocale>
 #include <QMenu>
 #include <QMessageBox>
+#include <QProgressDialog>
 #include <QPushButton>
 #include <QSettings>
+#include <QThread>
+#include <atomic>
 #include <exception>
+#include <memory>
 
 #include "Autosave.h"
 #include "Document.h"
 #include "Resources.h"
+#include "cad/OcctProcess.h"
 #include "common/Error.h"
 #include "io/CaseFile.h"
 
@@ -26,6 +32,43 @@ const char* const kRecentKey = "recentFiles";
 int maxRecent() {
     const int n = setting(QStringLiteral("recent/maximum")).toInt();
     return n > 0 ? n : 8;
+}
+
+// Document::read on a worker thread while this thread's events run (the window repaints, a
+// timer fires). A read that takes more than a moment (OpenCASCADE converting a large or
+// damaged CAD file: up to AEROFORM_CAD_TIME_LIMIT) shows a window-modal progress dialog whose
+// Cancel stops the helper. Returns what read() returned; throws what it threw (cad::OcctCancelled
+// after a cancel).
+std::shared_ptr<Document::Loaded> readInBackground(const QString& path, bool project, QWidget* window) {
+    std::atomic<bool> cancel{false};
+    std::shared_ptr<Document::Loaded> result;
+    std::exception_ptr failure;
+    std::unique_ptr<QThread> thread(QThread::create([&] {
+        const cad::OcctCancelScope scope(&cancel);
+        try {
+            result = Document::read(path, project);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+    }));
+    QProgressDialog dialog(QObject::tr("Reading %1 ...").arg(QFileInfo(path).fileName()), QObject::tr("Cancel"), 0, 0,
+                           window);
+    dialog.setObjectName(QStringLiteral("openProgress"));
+    dialog.setWindowTitle(QObject::tr("Opening"));
+    dialog.setWindowModality(Qt::WindowModal);
+    dialog.setMinimumDuration(400);
+    dialog.setAutoClose(false);
+    dialog.setAutoReset(false);
+    QObject::connect(&dialog, &QProgressDialog::canceled, &dialog, [&] { cancel = true; });
+    QEventLoop loop;
+    QObject::connect(thread.get(), &QThread::finished, &loop, &QEventLoop::quit, Qt::QueuedConnection);
+    thread->start();
+    dialog.setValue(0);  // starts the dialog's minimum-duration clock
+    loop.exec();
+    thread->wait();
+    dialog.close();
+    if (failure) std::rethrow_exception(failure);
+    return result;
 }
 
 }  // namespace
@@ -67,7 +110,26 @@ bool ProjectFiles::load(const QString& path, QString* error) {
                          .arg(path);
         return false;
     }
-    if (!guarded([&] { project ? document_->openProject(path) : document_->newFromGeometry(path); }, error)) return false;
+    lastLoadCancelled_ = false;
+    if (!reading_.isEmpty()) {
+        if (error) *error = tr("'%1' is still being read: open another file when it is done").arg(reading_);
+        return false;
+    }
+    reading_ = info.fileName();
+    std::shared_ptr<Document::Loaded> loaded;
+    const bool ok = guarded(
+        [&] {
+            try {
+                loaded = readInBackground(path, project, window_);
+            } catch (const cad::OcctCancelled&) {
+                lastLoadCancelled_ = true;  // what the user asked for, not a failure to report
+                throw;
+            }
+        },
+        error);
+    reading_.clear();
+    if (!ok) return false;
+    if (!guarded([&] { document_->adoptRead(loaded); }, error)) return false;
     lastDirectory_ = info.absolutePath();
     addRecent(info.absoluteFilePath());
     return true;
@@ -91,7 +153,7 @@ bool ProjectFiles::open(const QString& path) {
     if (!maybeSave()) return false;
     QString error;
     if (load(path, &error)) return true;
-    QMessageBox::critical(window_, tr("Cannot open file"), error);
+    reportOpenFailure(error);
     return false;
 }
 
@@ -111,7 +173,14 @@ void ProjectFiles::chooseAndOpen() {
            "patch set (*.json);;IGES (*.igs *.iges *.IGS *.IGES);;STEP (*.stp *.step *.STP *.STEP);;All files (*)"));
     if (path.isEmpty()) return;
     QString error;
-    if (!load(path, &error)) QMessageBox::critical(window_, tr("Cannot open file"), error);
+    if (!load(path, &error)) reportOpenFailure(error);
+}
+
+void ProjectFiles::reportOpenFailure(const QString& error) {
+    if (lastLoadCancelled_)
+        emit message(tr("Opening cancelled: %1").arg(error), 8000);
+    else
+        QMessageBox::critical(window_, tr("Cannot open file"), error);
 }
 
 bool ProjectFiles::maybeSave() {

@@ -24,9 +24,13 @@ class ProjectFiles : public QObject {
     /// `window`: the parent of dialogs. `recentFiles`: remember opened files (QSettings).
     ProjectFiles(Document* document, QWidget* window, bool recentFiles, QObject* parent = nullptr);
 
-    /// Opens a project (case file), a patch set (.json) or IGES (.igs/.iges); no dialogs. On
-    /// failure returns false, leaves everything as it was and sets *error (if given).
+    /// Opens a project (case file), a patch set (.json), IGES or STEP. The files are read on a
+    /// worker thread while the window stays live; a read that takes longer than a moment shows a
+    /// progress dialog whose Cancel stops it (OpenCASCADE's helper is killed: cad::OcctCancelScope).
+    /// No other dialogs. On failure or cancel returns false, leaves everything as it was and sets
+    /// *error (if given); lastLoadCancelled() tells a cancel from a failure.
     bool load(const QString& path, QString* error = nullptr);
+    bool lastLoadCancelled() const { return lastLoadCancelled_; }
     bool loadSample(QString* error = nullptr, bool withPaperLattice = true);
     bool saveTo(const QString& path, QString* error = nullptr);
 
@@ -59,11 +63,15 @@ class ProjectFiles : public QObject {
 
   private:
     void addRecent(const QString& path);
+    /// After a failed interactive open: a message box, or a status message after a cancel.
+    void reportOpenFailure(const QString& error);
 
     Document* document_;
     QWidget* window_;
     bool recentFiles_;
     QString lastDirectory_;
+    QString reading_;                 // the file being read (load() refuses a second one meanwhile)
+    bool lastLoadCancelled_ = false;
 };
 
 }  // namespace aero::ui

@@ -33,6 +33,8 @@ namespace aero::cad {
 
 namespace {
 
+thread_local const std::atomic<bool>* cancelFlag = nullptr;  // OcctCancelScope's
+
 std::atomic<OcctIsolation> isolation{OcctIsolation::Process};
 
 constexpr char kMagic[8] = {'A', 'E', 'R', 'O', 'O', 'C', 'C', 'T'};
@@ -281,6 +283,12 @@ Reader runHelper(const std::string& helper, const Writer& request, const std::st
         const pid_t w = ::waitpid(pid, &status, WNOHANG);
         if (w == pid) break;
         if (w < 0 && errno != EINTR) throw InputError("cannot read " + file + ": lost OpenCASCADE's helper process");
+        if (cancelFlag && cancelFlag->load()) {
+            ::kill(pid, SIGKILL);
+            while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+            }
+            throw OcctCancelled("reading " + file + " was cancelled (OpenCASCADE's helper was stopped)");
+        }
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (limit > 0 && elapsed > limit) {
             ::kill(pid, SIGKILL);
@@ -326,6 +334,9 @@ std::string helperForThisCall() {
 }
 
 }  // namespace
+
+OcctCancelScope::OcctCancelScope(const std::atomic<bool>* flag) : previous_(cancelFlag) { cancelFlag = flag; }
+OcctCancelScope::~OcctCancelScope() { cancelFlag = previous_; }
 
 void setOcctIsolation(OcctIsolation mode) { isolation = mode; }
 OcctIsolation occtIsolation() { return isolation; }

@@ -11,7 +11,10 @@
 // in a helper as in this process. Where no helper exists (a library user without the
 // applications, the fuzz targets, which must see OpenCASCADE's crashes themselves) OpenCASCADE
 // runs in this process as before.
+#include <atomic>
 #include <string>
+
+#include "common/Error.h"
 
 namespace aero::cad {
 
@@ -33,6 +36,29 @@ std::string occtHelperPath();
 /// $AEROFORM_CAD_TIME_LIMIT in seconds when set (0: no limit), else 600 s. Real files of a few
 /// hundred faces take seconds; the limit is for a conversion that never ends.
 double occtTimeLimit();
+
+/// A read stopped by its OcctCancelScope's flag (an InputError, so callers that report bad input
+/// report it too; the GUI tells it apart to say nothing more than that it was cancelled).
+class OcctCancelled : public InputError {
+  public:
+    using InputError::InputError;
+};
+
+/// While a scope lives, a conversion that a read on this thread hands to the helper is stopped
+/// soon after `*flag` becomes true (within about 20 ms: the helper is killed) and the read throws
+/// OcctCancelled naming the file. So a window can read a file on a worker thread and offer a Cancel
+/// button. Scopes nest (the innermost flag counts); a conversion in this process (no helper)
+/// cannot be interrupted and does not look at the flag.
+class OcctCancelScope {
+  public:
+    explicit OcctCancelScope(const std::atomic<bool>* flag);
+    ~OcctCancelScope();
+    OcctCancelScope(const OcctCancelScope&) = delete;
+    OcctCancelScope& operator=(const OcctCancelScope&) = delete;
+
+  private:
+    const std::atomic<bool>* previous_;
+};
 
 /// The helper's main (`aeroform-occt REQUEST RESULT`): reads the request file, runs OpenCASCADE
 /// in its own process and writes the result file. Returns the exit code (0 also when the

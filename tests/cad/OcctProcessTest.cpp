@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "cad/Iges.h"
 #include "cad/OcctProcess.h"
@@ -171,6 +173,40 @@ TEST(OcctProcess, AHelperThatCrashesHangsOrFailsIsAnErrorNamingTheFile) {
     {
         ScopedEnv bad("AEROFORM_CAD_TIME_LIMIT", "soon");
         EXPECT_THROW(cad::occtTimeLimit(), InputError);
+    }
+    // Cancelled from another thread (the GUI's Cancel button): the hanging helper is stopped
+    // soon after the flag is set, long before the time limit, and the read says so.
+    {
+        std::atomic<bool> cancel{false};
+        std::string what;
+        double waited = 0;
+        {
+            ScopedEnv use("AEROFORM_OCCT_HELPER", hang);
+            ScopedEnv noLimit("AEROFORM_CAD_TIME_LIMIT", "0");
+            std::thread canceller([&] {
+                std::this_thread::sleep_for(std::chrono::milliseconds(300));
+                cancel = true;
+            });
+            const auto c0 = std::chrono::steady_clock::now();
+            {
+                const cad::OcctCancelScope scope(&cancel);
+                cad::ReadReport report;
+                try {
+                    readCad(step, report);
+                } catch (const cad::OcctCancelled& e) {
+                    what = e.what();
+                }
+            }
+            waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+            canceller.join();
+        }
+        EXPECT_NE(what.find("reading STEP file '" + step + "' was cancelled"), std::string::npos) << what;
+        EXPECT_GE(waited, 0.29);
+        EXPECT_LT(waited, 20.0);  // not the helper's 60 s
+        // Outside the scope the flag, still set, stops nothing: the real helper reads the file.
+        ASSERT_FALSE(cad::occtHelperPath().empty());
+        cad::ReadReport report;
+        EXPECT_GT(readCad(step, report).size(), 0);
     }
     // No request or result file left behind, whatever happened to the helper.
     EXPECT_EQ(fs::temp_directory_path(), tmp);

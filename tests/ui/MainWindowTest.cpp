@@ -23,6 +23,9 @@
 #include <QSpinBox>
 #include <QMimeData>
 #include <QPushButton>
+#include <QProgressDialog>
+#include <QElapsedTimer>
+#include <QScreen>
 #include <QTimer>
 #include <QTreeWidgetItem>
 #include <QUndoStack>
@@ -87,6 +90,7 @@ class MainWindowTest : public QObject {
     void meshActionsBeforeAPreview();
     void resourcesShipIconsSettingsAndADesktopEntry();
     void latticeDialogDescribesTheLattice();
+    void aSlowCadFileShowsProgressAndCanBeCancelled();
 
   private:
     QImage renderNow() {
@@ -429,6 +433,65 @@ void MainWindowTest::latticeDialogDescribesTheLattice() {
     QCOMPARE(ints[0]->minimum(), 6);
     ints[3]->setValue(6);
     QCOMPARE(ints[0]->value(), 7);
+}
+
+// A CAD file whose conversion takes long (here a stand-in helper that never finishes): the window
+// stays live, a progress dialog appears and its Cancel stops the read at once; the open document
+// stays as it was. Then the real helper opens the same file.
+void MainWindowTest::aSlowCadFileShowsProgressAndCanBeCancelled() {
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString hang = dir.filePath(QStringLiteral("hang.sh"));
+    {
+        QFile f(hang);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write("#!/bin/sh\nexec sleep 60\n");
+    }
+    QFile::setPermissions(hang, QFile::ReadOwner | QFile::WriteOwner | QFile::ExeOwner);
+    const QString step = QStringLiteral(AEROFORM_FUZZ_CORPUS_DIR "/step/occt_trimmed.stp");
+    const QByteArray previousHelper = qgetenv("AEROFORM_OCCT_HELPER");
+    const bool hadHelper = qEnvironmentVariableIsSet("AEROFORM_OCCT_HELPER");
+    qputenv("AEROFORM_OCCT_HELPER", hang.toLocal8Bit());
+    const QString titleBefore = window_->windowTitle();
+    const int patchesBefore = window_->scene().patchCount();
+
+    bool dialogShown = false;
+    int framesWhileReading = -1;
+    const int framesBefore = window_->viewport()->renderedFrames();
+    QTimer::singleShot(1500, window_.get(), [&] {
+        auto* progress = window_->findChild<QProgressDialog*>(QStringLiteral("openProgress"));
+        if (!progress) return;
+        dialogShown = progress->isVisible();
+        window_->viewport()->update();  // the window still paints while the file is read
+        QTest::qWait(100);
+        framesWhileReading = window_->viewport()->renderedFrames() - framesBefore;
+        const QImage shot = window_->screen()->grabWindow(0).toImage();
+        shot.save(kScreenshotDir + QStringLiteral("/open_progress.png"));
+        for (QPushButton* b : progress->findChildren<QPushButton*>()) b->click();
+    });
+    QElapsedTimer clock;
+    clock.start();
+    QString error;
+    const bool opened = window_->loadFile(step, &error);
+    const qint64 ms = clock.elapsed();
+    if (hadHelper)
+        qputenv("AEROFORM_OCCT_HELPER", previousHelper);
+    else
+        qunsetenv("AEROFORM_OCCT_HELPER");
+    QVERIFY(!opened);
+    QVERIFY2(dialogShown, "no progress dialog after 1.5 s of reading");
+    QVERIFY2(framesWhileReading > 0, "the viewport did not render while the file was read");
+    QVERIFY2(error.contains(QStringLiteral("was cancelled")), qPrintable(error));
+    QVERIFY2(ms < 15000, qPrintable(QStringLiteral("the cancel took %1 ms").arg(ms)));
+    QCOMPARE(window_->windowTitle(), titleBefore);
+    QCOMPARE(window_->scene().patchCount(), patchesBefore);
+    QVERIFY(!window_->findChild<QProgressDialog*>(QStringLiteral("openProgress")));
+
+    // The real helper converts it.
+    QVERIFY2(window_->loadFile(step, &error), qPrintable(error));
+    QVERIFY(window_->scene().patchCount() > 0);
+    QVERIFY(window_->windowTitle().startsWith(QStringLiteral("occt_trimmed.stp")));
+    QVERIFY2(window_->loadSample(&error), qPrintable(error));
 }
 
 int runMainWindowTest(int argc, char** argv, bool canRender) {
