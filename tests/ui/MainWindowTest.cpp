@@ -463,7 +463,7 @@ void MainWindowTest::aSlowCadFileShowsProgressAndCanBeCancelled() {
         if (!progress) return;
         dialogShown = progress->isVisible();
         window_->viewport()->update();  // the window still paints while the file is read
-        QTest::qWait(100);
+        for (int i = 0; i < 50 && window_->viewport()->renderedFrames() == framesBefore; ++i) QTest::qWait(100);
         framesWhileReading = window_->viewport()->renderedFrames() - framesBefore;
         const QImage shot = window_->screen()->grabWindow(0).toImage();
         shot.save(kScreenshotDir + QStringLiteral("/open_progress.png"));
