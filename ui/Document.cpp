@@ -402,8 +402,7 @@ std::shared_ptr<Document::Loaded> Document::read(const QString& path, bool proje
 
 void Document::adoptRead(const std::shared_ptr<Loaded>& loaded) {
     if (!loaded || !loaded->baseline) throw Error("nothing was read");
-    Loaded in = std::move(*loaded);
-    adopt(std::move(in));
+    adopt(std::move(*loaded));
 }
 
 void Document::newFromGeometry(const QString& path) { adoptRead(read(path, false)); }

@@ -279,21 +279,22 @@ Reader runHelper(const std::string& helper, const Writer& request, const std::st
     }
     const auto start = std::chrono::steady_clock::now();
     int status = 0;
+    auto stopHelper = [&] {
+        ::kill(pid, SIGKILL);
+        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+    };
     for (int waitMs = 1;;) {
         const pid_t w = ::waitpid(pid, &status, WNOHANG);
         if (w == pid) break;
         if (w < 0 && errno != EINTR) throw InputError("cannot read " + file + ": lost OpenCASCADE's helper process");
         if (cancelFlag && cancelFlag->load()) {
-            ::kill(pid, SIGKILL);
-            while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-            }
+            stopHelper();
             throw OcctCancelled("reading " + file + " was cancelled (OpenCASCADE's helper was stopped)");
         }
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (limit > 0 && elapsed > limit) {
-            ::kill(pid, SIGKILL);
-            while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-            }
+            stopHelper();
             throw InputError("cannot read " + file + ": OpenCASCADE did not finish converting it in " + seconds(limit) +
                              " s and was stopped (the limit is AEROFORM_CAD_TIME_LIMIT, in seconds; 0 for none)");
         }
