@@ -82,7 +82,7 @@ void ResidualPlot::add(const FlowRunProgress& p) {
     const double y = it.relativeResidual > 0 ? it.relativeResidual : std::nan("");
     if (p.coarse) {
         if (it.rejected.empty()) {
-            series(coarse_).points.push_back({double(it.iteration), y});
+            series(coarse_).points.push_back({double(p.iterationOffset + it.iteration), y});
             series(coarse_).legend = true;
         }
         changed();
@@ -146,7 +146,7 @@ QString ResidualPlot::csv() const {
         QString why = QString::fromStdString(it.rejected);
         why.replace(QLatin1Char('"'), QStringLiteral("\"\""));
         out += QStringLiteral("%1,%2,%3,%4,%5,%6,%7,%8,%9,\"%10\",%11\n")
-                   .arg(p.coarse ? it.iteration : p.iterationOffset + it.iteration)
+                   .arg(p.iterationOffset + it.iteration)
                    .arg(it.residual, 0, 'g', 10)
                    .arg(it.relativeResidual, 0, 'g', 10)
                    .arg(it.cfl, 0, 'g', 6)

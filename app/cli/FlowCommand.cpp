@@ -293,6 +293,24 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["max_mach_at"] = where(fr.maxMach);
             j["max_entropy_at"] = where(fr.maxEntropy);
             j["largest_residual_at"] = where(fr.largestResidual);
+            if (!fr.sequencing.empty()) {
+                // The grid-sequencing pre-solves on coarser samplings of the grid, coarsest first.
+                nlohmann::ordered_json sj;
+                for (const auto& level : fr.sequencing) {
+                    sj["levels"].push_back({{"nodes", level.nodes},
+                                            {"status", flow::flowStatusName(level.report.status)},
+                                            {"iterations", level.report.iterations},
+                                            {"linear_iterations", level.report.linearIterations},
+                                            {"relative_residual", level.report.relativeResidual()}});
+                }
+                sj["started_from_them"] = fr.sequenced || fr.sequencedRetry();
+                if (fr.sequencedRetry()) {
+                    sj["failed_attempt"] = {{"status", flow::flowStatusName(fr.sequencedReport.status)},
+                                            {"iterations", fr.sequencedReport.iterations},
+                                            {"relative_residual", fr.sequencedReport.relativeResidual()}};
+                }
+                j["grid_sequencing"] = sj;
+            }
             if (fr.dissipationRetry()) {
                 // The first attempt stopped; the answer comes from a continuation in the dissipation.
                 nlohmann::ordered_json dj;

@@ -61,7 +61,11 @@ struct FlowCase {
     flow::InviscidScheme scheme = flow::InviscidScheme::EntropyConservative;
     flow::NewtonOptions newton;
     std::string restart;              // start from this restart file (resolved), empty: free stream
-    bool gridSequencing = false;      // a cold start first solves on half the grid intervals
+    bool gridSequencing = true;       // a cold start on a grid of sequencingNodes nodes or more
+                                      // first solves on coarser samplings of the same analytic
+                                      // grid (half the intervals, a quarter, ...)
+    int sequencingNodes = 40000;      // ... from this many grid nodes on; a coarser level is
+                                      // added while the coarsest has this many (docs/validation.md)
     bool stallModes = true;           // a solve that does not converge looks for the linear modes
                                       // that grow in pseudo time at its final state (the reason)
     double checkpointSeconds = 60;    // `aeroform-cli flow` writes its restart file at most this

@@ -278,8 +278,16 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                             "pressure) gets a smaller time step of its own instead of cutting the whole step, so "
                             "one node at a sharp edge does not hold the field's CFL down"));
         o.push_back(boolean<FlowCase>("grid_sequencing", [](FlowCase& c) -> bool& { return c.gridSequencing; },
-                            "a cold start first converges on half the grid intervals of the same analytic grid (exact "
-                            "prolongation in the grid parameters), then on the case's grid"));
+                            "a cold start on a grid of sequencing_nodes nodes or more first converges on coarser "
+                            "samplings of the same analytic grid (half the intervals, and a quarter while that "
+                            "level still has sequencing_nodes nodes, ...; exact prolongation in the grid "
+                            "parameters), then on the case's grid; one that fails there is solved again from the "
+                            "free stream"));
+        o.push_back(integer<FlowCase>("sequencing_nodes", 0, 2000000000,
+                                      [](FlowCase& c) -> int& { return c.sequencingNodes; },
+                                      "grid sequencing starts from this many grid nodes on, and a coarser level is "
+                                      "added while the coarsest level has this many (the 75k half-sphere: one level "
+                                      "of 11k nodes; the 903k paper grid: 123k and 21k)"));
         o.push_back(boolean<FlowCase>("stall_modes", [](FlowCase& c) -> bool& { return c.stallModes; },
                             "a solve that does not converge looks for the linear modes of the flow that grow in "
                             "pseudo time at its final state (Arnoldi on one implicit step at CFL 50: about 30 GMRES "

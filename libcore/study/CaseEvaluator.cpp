@@ -82,10 +82,23 @@ FlowLocation locate(const flow::FlowMesh& fm, const std::vector<double>& x, long
     return l;
 }
 
-// The coarser sampling of the same analytic grid used by grid sequencing: half the intervals.
-mesh::ExtrusionOptions coarser(mesh::ExtrusionOptions o) {
-    o.refine *= 0.5;
+// Grid sequencing's coarser levels at most (the 903k paper grid uses two: 123k and 21k nodes).
+constexpr int kMaxSequencingLevels = 4;
+
+// A coarser sampling of the same analytic grid for grid sequencing: 2^-level of the intervals.
+mesh::ExtrusionOptions coarser(mesh::ExtrusionOptions o, int level) {
+    o.refine *= std::ldexp(1.0, -level);
     return o;
+}
+
+// The free stream's residual norm on a grid: what relative tolerances refer to.
+double freeStreamResidual(const flow::FlowMesh& fm, const std::vector<double>& metrics, const flow::ResidualOptions& ro) {
+    const std::vector<double> q = flow::freeStreamState(fm, ro.freeStream);
+    std::vector<double> r(q.size());
+    flow::residual(fm, metrics.data(), q.data(), ro, r.data());
+    double s = 0;
+    for (double v : r) s += v * v;
+    return std::sqrt(s);
 }
 
 }  // namespace
@@ -120,7 +133,8 @@ const char* evaluationStatusName(EvaluationStatus s) {
 
 struct CaseEvaluator::Baseline {
     mesh::MultiBlockMesh fine;                      // the case's level, extruded around the baseline
-    std::unique_ptr<mesh::MultiBlockMesh> coarse;   // half the grid intervals (sequencing), on demand
+    std::vector<mesh::MultiBlockMesh> coarse;       // grid sequencing's levels, on demand: half, a
+                                                    // quarter, ... of the grid intervals
     std::vector<mesh::StructuredGrid> grids;        // x = N b of `fine`, on demand
 };
 
@@ -333,17 +347,11 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     const long n = 5 * f->mesh.nodeCount;
     // Relative tolerances always refer to the free stream's residual on this grid, so a warm or
     // sequenced start converges to the same absolute level as a cold one.
-    std::vector<double> q = flow::freeStreamState(f->mesh, ro.freeStream);
-    {
-        std::vector<double> r(n);
-        flow::residual(f->mesh, f->metrics.data(), q.data(), ro, r.data());
-        double s = 0;
-        for (double v : r) s += v * v;
-        no.referenceResidual = std::sqrt(s);
-    }
-    auto onIteration = [&](bool coarse) {
-        return [&, coarse](const flow::FlowIteration& it) {
-            if (progress) progress({Stage::Flow, "", &it, coarse, coarse ? 0 : f->previousIterations});
+    std::vector<double> q;
+    no.referenceResidual = freeStreamResidual(f->mesh, f->metrics, ro);
+    auto onIteration = [&](bool coarse, int offset = 0) {
+        return [&, coarse, offset](const flow::FlowIteration& it) {
+            if (progress) progress({Stage::Flow, "", &it, coarse, coarse ? offset : f->previousIterations});
         };
     };
     if (request.start && !request.start->restartFile.empty()) {
@@ -376,35 +384,72 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         q = warm_;  // the tolerance stays relative to this grid's free-stream residual (above)
         f->warmStarted = true;
         say("warm start from the last converged state");
-    } else if (request.sequencing.value_or(case_.flow.gridSequencing) && mesh_) {
-        // Grid sequencing: the same analytic grid with half the intervals, solved loosely, then
-        // interpolated in parameter space.
-        if (!mesh_->coarse) {
-            mesh_->coarse = std::make_unique<mesh::MultiBlockMesh>(mesh::extrudeToFarfield(baseline_, coarser(case_.mesh.extrusion)));
+    } else if (request.sequencing.value_or(case_.flow.gridSequencing) && mesh_ &&
+               f->mesh.nodeCount >= case_.flow.sequencingNodes) {
+        // Grid sequencing: the same analytic grid sampled with half the intervals, and with half
+        // of those again while the coarsest level still has sequencingNodes nodes. The coarsest
+        // is solved from the free stream, each finer level from the state prolonged in the grid
+        // parameters (the levels sample the same B-spline volumes), each to 1e-4 of its
+        // free-stream residual. On the 903k paper grid the 123k level does not converge from the
+        // free stream but does from the 21k level's state, in 9 iterations (docs/validation.md).
+        struct Level {
+            mesh::MultiBlockMesh mesh;
+            flow::FlowMesh flow;
+            std::vector<double> metrics;
+        };
+        std::vector<Level> levels;  // finest first
+        long above = f->mesh.nodeCount;
+        for (int k = 0; k < kMaxSequencingLevels; ++k) {
+            if (static_cast<int>(mesh_->coarse.size()) <= k) {
+                mesh_->coarse.push_back(mesh::extrudeToFarfield(baseline_, coarser(case_.mesh.extrusion, k + 1)));
+            }
+            Level level{mesh_->coarse[k], {}, {}};
+            level.mesh.control = m.control.control;
+            const std::vector<mesh::StructuredGrid> grids = mesh::regenerateAll(level.mesh);
+            level.flow = flow::makeFlowMesh(level.mesh, grids);
+            if (level.flow.nodeCount >= above) break;  // the sampling cannot get coarser
+            level.metrics = flow::computeMetrics(level.flow, flow::gatherCoordinates(level.flow, grids));
+            above = level.flow.nodeCount;
+            levels.push_back(std::move(level));
+            if (above < case_.flow.sequencingNodes) break;
         }
-        mesh::MultiBlockMesh cm = *mesh_->coarse;
-        cm.control = m.control.control;
-        const std::vector<mesh::StructuredGrid> cg = mesh::regenerateAll(cm);
-        const flow::FlowMesh cfm = flow::makeFlowMesh(cm, cg);
-        const std::vector<double> cx = flow::gatherCoordinates(cfm, cg);
-        const std::vector<double> cmet = flow::computeMetrics(cfm, cx);
-        flow::NewtonOptions cno = case_.flow.newton;
-        cno.relativeTolerance = std::max(cno.relativeTolerance, 1e-4);
-        std::vector<double> cq;
-        f->coarseNodes = cfm.nodeCount;
-        say(format("grid sequencing: first on %ld nodes (half the intervals)", cfm.nodeCount));
-        f->coarseReport = flow::solveFlow(cfm, cmet, ro, cq, cno, onIteration(true), cancel);
-        if (f->coarseReport.status == flow::FlowStatus::Cancelled) {
-            e.status = EvaluationStatus::Cancelled;
-            e.message = "cancelled during the grid-sequencing pre-solve";
-            e.secondsFlow = since(t);
-            return;
-        }
-        if (f->coarseReport.converged()) {
-            q = prolongState(cm, cfm, cq, m.control, f->mesh);
-            no.cfl0 = std::max(no.cfl0, 10.0 * case_.flow.newton.cfl0);
-        } else {
-            say("the coarse solve did not converge (" + f->coarseReport.message + "): starting from the free stream");
+        std::vector<double> lq;  // the state handed on (empty: none yet)
+        int done = 0;            // iterations of the coarser levels, for the progress's numbering
+        for (int k = static_cast<int>(levels.size()) - 1; k >= 0; --k) {
+            Level& level = levels[k];
+            flow::NewtonOptions cno = case_.flow.newton;
+            cno.relativeTolerance = std::max(cno.relativeTolerance, 1e-4);
+            if (!lq.empty()) {
+                lq = prolongState(levels[k + 1].mesh, levels[k + 1].flow, lq, level.mesh, level.flow);
+                cno.referenceResidual = freeStreamResidual(level.flow, level.metrics, ro);
+                cno.cfl0 = std::max(cno.cfl0, 10.0 * case_.flow.newton.cfl0);
+            }
+            say(format("grid sequencing: level %d of %zu on %ld nodes (%s the intervals)%s",
+                       static_cast<int>(levels.size()) - k, levels.size(), level.flow.nodeCount,
+                       k == 0 ? "half" : k == 1 ? "a quarter of" : "1/8 or less of",
+                       lq.empty() ? ", from the free stream" : ""));
+            FlowResult::SequencingLevel result{level.flow.nodeCount,
+                                               flow::solveFlow(level.flow, level.metrics, ro, lq, cno, onIteration(true, done), cancel)};
+            done += result.report.iterations;
+            const flow::FlowStatus status = result.report.status;
+            const std::string message = result.report.message;
+            f->sequencing.push_back(std::move(result));
+            if (status == flow::FlowStatus::Cancelled) {
+                e.status = EvaluationStatus::Cancelled;
+                e.message = "cancelled during the grid-sequencing pre-solve";
+                e.secondsFlow = since(t);
+                return;
+            }
+            if (status != flow::FlowStatus::Converged) {
+                say("the level's solve did not converge (" + message + "): the case's grid starts from the free stream");
+                lq.clear();
+                break;
+            }
+            if (k == 0) {
+                q = prolongState(level.mesh, level.flow, lq, m.control, f->mesh);
+                no.cfl0 = std::max(no.cfl0, 10.0 * case_.flow.newton.cfl0);
+                f->sequenced = true;
+            }
         }
     }
     flow::FlowCheckpoint checkpoint;
@@ -435,8 +480,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     }
     f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
     const flow::FlowStatus st = f->report.status;
-    if (f->warmStarted && request.coldRetry &&
-        (st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber)) {
+    const bool failed = st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber;
+    if (f->warmStarted && request.coldRetry && failed) {
         // The neighbour's state can sit in the basin of another branch after a large design step
         // (the optimizer's 98k evaluation 13: warm, stalled at 2e-2; cold with the switch
         // continuation, converged): the free stream is the start the cold solves are tuned for.
@@ -446,7 +491,19 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                    flow::flowStatusName(st), f->report.iterations, f->report.message.c_str()));
         f->warmReport = std::move(f->report);
         f->warmStarted = false;
-        q = flow::freeStreamState(f->mesh, ro.freeStream);
+        q.clear();
+        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+    } else if (f->sequenced && request.coldRetry && failed) {
+        // The same for a start from the coarser levels' answer, so that sequencing never loses a
+        // design the solve from the free stream converges (and the dissipation continuation
+        // below still follows a failure of that one).
+        say(format("the start from the coarser grid's state stopped (%s after %d iterations: %s): solving again from "
+                   "the free stream",
+                   flow::flowStatusName(st), f->report.iterations, f->report.message.c_str()));
+        f->sequencedReport = std::move(f->report);
+        f->sequenced = false;
+        no.cfl0 = case_.flow.newton.cfl0;
+        q.clear();
         f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
     }
     const flow::FlowStatus last = f->report.status;
@@ -590,6 +647,11 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             why += format(" (solved from the free stream after the warm start stopped: %s after %d iterations)",
                           flow::flowStatusName(f->warmReport.status), f->warmReport.iterations);
         }
+        if (f->sequencedRetry()) {
+            why += format(" (solved from the free stream after the start from the coarser grids' state stopped: %s after "
+                          "%d iterations)",
+                          flow::flowStatusName(f->sequencedReport.status), f->sequencedReport.iterations);
+        }
         if (f->dissipationRetry()) {
             const FlowResult::DissipationStage& first = f->dissipationStages.front();
             double smallest = first.factor;
@@ -609,7 +671,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
 }
 
 int FlowResult::totalIterations() const {
-    int n = report.iterations + warmReport.iterations + failedReport.iterations;
+    int n = report.iterations + warmReport.iterations + sequencedReport.iterations + failedReport.iterations;
     for (const DissipationStage& s : dissipationStages) n += s.report.iterations;
     return n;
 }

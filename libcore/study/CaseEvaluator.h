@@ -43,8 +43,9 @@ struct Progress {
     Stage stage = Stage::Shape;
     std::string message;
     const flow::FlowIteration* iteration = nullptr;
-    bool coarse = false;  // the iteration belongs to the grid-sequencing pre-solve
-    int iterationOffset = 0;  // iterations done before this run (a continued restart)
+    bool coarse = false;  // the iteration belongs to a grid-sequencing pre-solve on a coarser grid
+    int iterationOffset = 0;  // iterations done before this run (a continued restart; for a
+                              // pre-solve, those of the coarser levels before it)
     double fraction = -1;     // how much of the stage is done, in [0, 1] (-1: unknown)
 };
 using ProgressFn = std::function<void(const Progress&)>;
@@ -90,14 +91,16 @@ struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
     bool flow = true;        // run the flow stage (if the case has a flow section)
     bool warmStart = true;   // start from the last converged flow on the same grid
-    bool coldRetry = true;   // a warm start that stalls, diverges or is not physical is solved
-                             // again from the free stream (a large design step can leave the
-                             // neighbour's state in the basin of another, unconverged branch)
+    bool coldRetry = true;   // a warm (or grid-sequenced) start that stalls, diverges or is not
+                             // physical is solved again from the free stream (a large design step
+                             // can leave the neighbour's state in the basin of another,
+                             // unconverged branch)
     bool dissipationRetry = true;  // a solve from the free stream that stalls, diverges or is not
                                    // physical is solved again by continuation in the dissipation
                                    // (kDissipationSchedule), ending with the case's own problem
-    std::optional<bool> sequencing;  // without a warm start: first solve on half the grid
-                                     // intervals (unset: the case's flow.grid_sequencing)
+    std::optional<bool> sequencing;  // without a warm start: first solve on coarser samplings of
+                                     // the grid (unset: the case's flow.grid_sequencing; either way
+                                     // only from flow.sequencing_nodes nodes on)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
     std::optional<double> alphaDeg;  // the angle of attack (unset: the case's flow.alpha)
     std::string checkpointFile;      // non-empty: during the flow solve (the full grid's), the state
@@ -155,12 +158,22 @@ struct FlowResult {
     std::vector<double> x, metrics, q;      // coordinates, metrics, state (global node order)
     flow::ResidualOptions residualOptions;  // what was solved
     flow::FlowReport report;
-    flow::FlowReport coarseReport;          // the sequencing pre-solve (empty if none)
-    long coarseNodes = 0;
+    struct SequencingLevel {
+        long nodes = 0;                     // the level's grid nodes
+        flow::FlowReport report;
+    };
+    std::vector<SequencingLevel> sequencing;  // grid sequencing's solves on coarser samplings of the
+                                            // grid, coarsest first (flow.grid_sequencing; empty if
+                                            // none); the last one stops short if one did not converge
+    bool sequenced = false;                 // the solve that gave q started from the state prolonged
+                                            // from them
+    flow::FlowReport sequencedReport;       // a sequenced start that failed and was solved again from
+                                            // the free stream (EvaluationRequest::coldRetry; else empty)
     bool warmStarted = false;               // the solve that gave q started from the warm state
     flow::FlowReport warmReport;            // a warm start that failed and was solved again from the
                                             // free stream (EvaluationRequest::coldRetry; else empty)
     bool coldRetry() const { return warmReport.iterations > 0 || !warmReport.message.empty(); }
+    bool sequencedRetry() const { return sequencedReport.iterations > 0 || !sequencedReport.message.empty(); }
     flow::FlowReport failedReport;          // a cold solve that failed and was solved again by
                                             // continuation in the dissipation (else empty) ...
     struct DissipationStage {

@@ -170,14 +170,14 @@ TEST(Options, FlowTableDrivesParserWriterAndDocumentation) {
     }
     // Every key parses and writes back (a value other than the default where possible).
     std::string body = R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {)";
-    body += R"("mach": 0.7, "ilu_parts": 3, "scheme": "central", "grid_sequencing": true, "reference_point": [0.25, 0, 0]}})";
+    body += R"("mach": 0.7, "ilu_parts": 3, "scheme": "central", "grid_sequencing": false, "reference_point": [0.25, 0, 0]}})";
     const std::string path = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/options_case.json";
     std::ofstream(path) << body;
     const io::CaseFile c = io::readCase(path);
     EXPECT_EQ(c.flow.freeStream.mach, 0.7);
     EXPECT_EQ(c.flow.newton.preconditionerParts, 3);
     EXPECT_EQ(c.flow.scheme, flow::InviscidScheme::Central);
-    EXPECT_TRUE(c.flow.gridSequencing);
+    EXPECT_FALSE(c.flow.gridSequencing);
     EXPECT_EQ(c.flow.reference.point[0], 0.25);
     EXPECT_NEAR(c.flow.reference.area, 3.14159265358979323846 / 2, 1e-15);  // one default
     const std::string written = io::formatCase(c);

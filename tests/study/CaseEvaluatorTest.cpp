@@ -153,6 +153,57 @@ TEST(CaseEvaluator, ProlongationIsExactForFieldsLinearInTheParameters) {
     EXPECT_LT(worst, 1e-13);
 }
 
+// Grid sequencing (flow.grid_sequencing, on by default from flow.sequencing_nodes grid nodes): a
+// cold start first converges on coarser samplings of the same analytic grid, coarsest first, each
+// from the one before, and the case's grid starts from the prolonged state: the same steady state
+// as the solve from the free stream, in fewer iterations on the case's grid. The coarser levels'
+// iterations are numbered on from each other. Below the threshold nothing changes.
+TEST(CaseEvaluator, AColdStartOnALargeGridIsSequencedThroughCoarserLevels) {
+    io::CaseFile c = smallBlendedWing(0.5);
+    c.flow.sequencingNodes = 2000;
+    const geometry::PatchSet set = study::loadGeometry(c.geometry);
+    study::CaseEvaluator ev(c, set);
+    study::EvaluationRequest cold;
+    cold.warmStart = false;
+    std::vector<std::pair<int, int>> coarseIterations;  // (offset, iteration) of the pre-solves
+    const study::Evaluation s = ev.evaluate(ev.caseValues(), cold, [&](const study::Progress& p) {
+        if (p.iteration && p.coarse) coarseIterations.emplace_back(p.iterationOffset, p.iteration->iteration);
+    });
+    ASSERT_TRUE(s.ok()) << s.message;
+    const study::FlowResult& f = *s.flow;
+    ASSERT_EQ(f.sequencing.size(), 2u);
+    EXPECT_LT(f.sequencing[0].nodes, 2000);
+    EXPECT_GE(f.sequencing[1].nodes, 2000);
+    EXPECT_LT(f.sequencing[1].nodes, f.mesh.nodeCount);
+    for (const auto& level : f.sequencing) EXPECT_TRUE(level.report.converged()) << level.report.message;
+    EXPECT_TRUE(f.sequenced);
+    EXPECT_FALSE(f.sequencedRetry());
+    ASSERT_FALSE(coarseIterations.empty());
+    EXPECT_EQ(coarseIterations.front(), std::make_pair(0, 1));
+    EXPECT_EQ(coarseIterations.back().first, f.sequencing[0].report.iterations);
+    EXPECT_EQ(coarseIterations.back().second, f.sequencing[1].report.iterations);
+
+    study::EvaluationRequest plainRequest = cold;
+    plainRequest.sequencing = false;
+    const study::Evaluation plain = ev.evaluate(ev.caseValues(), plainRequest);
+    ASSERT_TRUE(plain.ok()) << plain.message;
+    EXPECT_TRUE(plain.flow->sequencing.empty());
+    EXPECT_FALSE(plain.flow->sequenced);
+    std::printf("sequenced: %d + %d coarse iterations, %d on the case's grid (%d GMRES); from the free stream %d (%d)\n",
+                f.sequencing[0].report.iterations, f.sequencing[1].report.iterations, f.report.iterations,
+                f.report.linearIterations, plain.flow->report.iterations, plain.flow->report.linearIterations);
+    EXPECT_LT(f.report.iterations, plain.flow->report.iterations);
+    EXPECT_NEAR(f.forces.CL, plain.flow->forces.CL, 1e-7);
+    EXPECT_NEAR(f.forces.CD, plain.flow->forces.CD, 1e-7);
+
+    c.flow.sequencingNodes = static_cast<int>(f.mesh.nodeCount) + 1;
+    study::CaseEvaluator below(c, set);
+    const study::Evaluation b = below.evaluate(below.caseValues(), cold);
+    ASSERT_TRUE(b.ok()) << b.message;
+    EXPECT_TRUE(b.flow->sequencing.empty());
+    EXPECT_EQ(b.flow->report.iterations, plain.flow->report.iterations);
+}
+
 TEST(CaseEvaluator, AWarmStartFromANeighbouringDesignSavesIterations) {
     // The optimizer's pattern: a small step from a converged design starts from its solution.
     study::CaseEvaluator ev(smallBlendedWing(), study::loadGeometry(smallBlendedWing().geometry));
