@@ -119,7 +119,9 @@ StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, c
       lowMemory_(fm.nodeCount >= n.lowMemoryNodes) {
     approx_.lumpedDissipation = true;
     approx_.freezeCoefficients = true;
-    ilu_.setPrecision(n.iluPrecision);
+    // A grid where memory is the limit stores the factors in bfloat16 and the Krylov basis in float
+    // (the 903k paper grid: 3.59 GB against 6.32 GB, the same iterations; docs/performance.md).
+    ilu_.setPrecision(lowMemory_ ? IluPrecision::Bfloat16 : n.iluPrecision);
     if (n.preconditionerParts > 1) {
         ilu_.setOrdering(partitionOrdering(P_, blockGroups(fm, n.preconditionerParts), n.preconditionerParts));
     }
@@ -206,7 +208,7 @@ GmresReport StepSystem::solve(const double* r, double* dq) {
     // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
     // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
     const GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, n_.linearTolerance, n_.linearFailure,
-                          n_.gmresDeflation, n_.gmresSingleBasis};
+                          n_.gmresDeflation, n_.gmresSingleBasis || lowMemory_};
     for (long i = 0; i < n; ++i) rhs_[i] = -r[i];
     std::fill(dq, dq + n, 0.0);
     return gmres(n, A, M, rhs_.data(), dq, go, &krylov_);

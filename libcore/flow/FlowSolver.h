@@ -61,9 +61,11 @@ struct NewtonOptions {
                                        // for approximate steps (exact steps free it), and every
                                        // step frees the Krylov basis before the next assembly, so
                                        // the matrix (1.3 GB on the 903k paper grid) and the basis
-                                       // (1.1-2.2 GB) are not held at full size together. Exact
-                                       // steps are bitwise unchanged, approximate ones multiply
-                                       // with the rounded matrix (0: always; docs/performance.md)
+                                       // (1.1-2.2 GB) are not held at full size together; and the
+                                       // ILU factors are stored in bfloat16 and the basis in float
+                                       // (whatever iluPrecision and gmresSingleBasis say): the
+                                       // paper grid in 3.59 GB instead of 6.32 GB, the same
+                                       // iterations (0: always; docs/performance.md)
     ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
                                        // products: a real residual's difference (3.5x cheaper than
                                        // a complex one; Jacobian.h) or complex step

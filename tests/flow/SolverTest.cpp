@@ -198,17 +198,23 @@ TEST(FlowSolver, LowMemoryStepsFreeTheMatrixAndTheBasisAndRebuildThem) {
     // NewtonOptions::lowMemoryNodes 0 frees the approximate Jacobian after each exact step's
     // factorization (keeps it rounded to float for an approximate step's products) and the Krylov
     // basis before each assembly; a failed exact step assembles the matrix again for its
-    // approximate retry. Same run as above (exact steps that fail, then approximate ones): the
-    // exact steps up to the first approximate one must be the same to the bit, the failed step's
-    // retry the same to float rounding.
+    // approximate retry; and it stores the ILU factors in bfloat16 and the basis in float,
+    // whatever the options say. Same run as above (exact steps that fail, then approximate ones),
+    // against a run with those two storages chosen and the memory kept: the exact steps up to the
+    // first approximate one must be the same to the bit, the failed step's retry the same to
+    // float rounding.
     const testing::FlowCase& c = testing::halfSphere(0.3);
     const ResidualOptions o = freeStreamAt(0.75, 1.2);
     NewtonOptions n = failingExactSteps();
     n.maxIterations = 30;
     n.exactBelow = 2;  // exact steps from the start, so the first approximate one is a retry
+    n.iluPrecision = IluPrecision::Bfloat16;
+    n.gmresSingleBasis = true;
     std::vector<double> q;
     const FlowReport plain = solve(c, o, q, n);
     n.lowMemoryNodes = 0;
+    n.iluPrecision = IluPrecision::Double;  // overridden by the low-memory mode
+    n.gmresSingleBasis = false;
     std::vector<double> lean;
     const FlowReport low = solve(c, o, lean, n);
     ASSERT_GE(low.history.size(), 2u);
@@ -233,6 +239,8 @@ TEST(FlowSolver, LowMemoryStepsFreeTheMatrixAndTheBasisAndRebuildThem) {
     std::vector<double> q0, q1;
     NewtonOptions late;
     late.exactBelow = 1e-2;
+    late.iluPrecision = IluPrecision::Bfloat16;
+    late.gmresSingleBasis = true;
     const FlowReport a = solve(c, half, q0, late);
     late.lowMemoryNodes = 0;
     const FlowReport b = solve(c, half, q1, late);

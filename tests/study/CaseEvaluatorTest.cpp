@@ -189,9 +189,11 @@ TEST(CaseEvaluator, AColdStartOnALargeGridIsSequencedThroughCoarserLevels) {
     ASSERT_TRUE(plain.ok()) << plain.message;
     EXPECT_TRUE(plain.flow->sequencing.empty());
     EXPECT_FALSE(plain.flow->sequenced);
-    std::printf("sequenced: %d + %d coarse iterations, %d on the case's grid (%d GMRES); from the free stream %d (%d)\n",
-                f.sequencing[0].report.iterations, f.sequencing[1].report.iterations, f.report.iterations,
-                f.report.linearIterations, plain.flow->report.iterations, plain.flow->report.linearIterations);
+    std::printf("sequenced: %d + %d iterations on %ld and %ld nodes, %d on the case's %ld (%d GMRES); from the free "
+                "stream %d (%d)\n",
+                f.sequencing[0].report.iterations, f.sequencing[1].report.iterations, f.sequencing[0].nodes,
+                f.sequencing[1].nodes, f.report.iterations, f.mesh.nodeCount, f.report.linearIterations,
+                plain.flow->report.iterations, plain.flow->report.linearIterations);
     EXPECT_LT(f.report.iterations, plain.flow->report.iterations);
     EXPECT_NEAR(f.forces.CL, plain.flow->forces.CL, 1e-7);
     EXPECT_NEAR(f.forces.CD, plain.flow->forces.CD, 1e-7);
