@@ -48,14 +48,14 @@ struct NewtonOptions {
     bool gmresSingleBasis = false;     // the Krylov basis in float (GmresOptions::singleBasis): the
                                        // same iterations on the 98k samples and 17 % less memory,
                                        // but a different path on hard designs (one random design
-                                       // of the robustness suite stalls with it); opt-in for
-                                       // grids where memory is the limit (docs/performance.md)
+                                       // of the robustness suite stalls with it); opt-in below
+                                       // lowMemoryNodes, always on from there (docs/performance.md)
     IluPrecision iluPrecision = IluPrecision::Single;  // storage of the preconditioner's
                                        // factors; Bfloat16 halves their memory (0.75 GB on the
                                        // 903k paper grid) with the same iterations on the samples,
                                        // but like the float basis it moves hard designs' paths at
-                                       // round-off level: opt-in for grids where memory is the
-                                       // limit (docs/performance.md)
+                                       // round-off level: opt-in below lowMemoryNodes, always
+                                       // Bfloat16 from there (docs/performance.md)
     int lowMemoryNodes = 300000;       // from this many grid nodes on, the approximate Jacobian
                                        // is kept after its ILU is factored only in float and only
                                        // for approximate steps (exact steps free it), and every
