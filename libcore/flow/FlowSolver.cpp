@@ -108,8 +108,12 @@ void CflLaw::accepted(const FlowIteration& rec) {
 
 void CflLaw::rejected(double cfl, double R, double R0) {
     // Cut the CFL actually used (not only the base: near convergence the (R0/R) factor would
-    // keep the product at cflMax and the cut would do nothing).
-    base_ = std::max(1e-3 * o_.cfl0, 0.1 * cfl / std::max(1.0, std::pow(R0 / R, o_.cflExponent)));
+    // keep the product at cflMax and the cut would do nothing). The floor bounds that CFL, not the
+    // base: a floor on the base times a factor of 1e9 gave back the rejected CFL itself, capped at
+    // cflMaxIncrease times the last accepted step's, and the 98k random 2 design repeated the same
+    // rejected step nine times at a relative residual of 1.5e-9.
+    const double cut = std::max(1e-3 * o_.cfl0, 0.1 * cfl);
+    base_ = cut / std::max(1.0, std::pow(R0 / R, o_.cflExponent));
 }
 
 StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,

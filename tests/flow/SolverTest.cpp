@@ -347,6 +347,37 @@ TEST(FlowSolver, ReportsAStallWhenNeitherTheResidualNorTheCflMoves) {
     EXPECT_NE(twice.message.find("no progress in 6 iterations"), std::string::npos) << twice.message;
 }
 
+TEST(CflLaw, ARejectedAttemptCutsTheCflActuallyUsedEvenNearConvergence) {
+    // The 98k random 2 design's last steps: accepted at CFL 1.05e5 at a relative residual of
+    // 1.48e-9, then the attempt at 4 times that rejected. Every retry has to come at a tenth of
+    // the CFL before it (the base alone times (R0/R) = 6.7e8 gave back 4.19e5 nine times).
+    NewtonOptions o;
+    const double R0 = 1.0, R = 1.48e-9;
+    CflLaw law(o, o.cfl0);
+    FlowIteration rec;
+    rec.cfl = 1.05e5;
+    rec.stepScale = 1.0;
+    rec.linearResidual = 0.5 * o.linearTolerance;
+    law.accepted(rec);
+    double cfl = law.next(R, R0);
+    EXPECT_DOUBLE_EQ(cfl, o.cflMaxIncrease * rec.cfl);  // capped by the last accepted step's
+    for (int retry = 0; retry < 10; ++retry) {
+        law.rejected(cfl, R, R0);
+        const double cut = law.next(R, R0);
+        EXPECT_NEAR(cut, std::max(1e-3 * o.cfl0, 0.1 * cfl), 1e-9 * cfl) << "retry " << retry;
+        cfl = cut;
+    }
+    EXPECT_DOUBLE_EQ(cfl, 1e-3 * o.cfl0);  // 4.19e5 / 1e9 < the floor, which bounds the CFL itself
+    // Far from convergence (R = R0) the same cut: a tenth of the CFL used.
+    CflLaw early(o, o.cfl0);
+    early.rejected(o.cfl0, R0, R0);
+    EXPECT_DOUBLE_EQ(early.next(R0, R0), 0.1 * o.cfl0);
+    // After the cut, full steps grow the CFL again from there.
+    rec.cfl = cfl;
+    law.accepted(rec);
+    EXPECT_NEAR(law.next(R, R0), o.cflGrowth * cfl, 1e-12 * cfl);
+}
+
 TEST(FlowSolver, ReportsANonPhysicalStartInsteadOfIterating) {
     const auto box = testing::wavyBox(5, mesh::BoundaryKind::Wall);
     ResidualOptions o;
