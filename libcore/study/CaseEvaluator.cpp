@@ -639,8 +639,15 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             why += format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
         }
         if (m.wallBend.degrees > kWallBendWarning) why += "; " + describeWallBend(m.wallBend);
-        if (case_.flow.stallModes && (f->report.status == flow::FlowStatus::Stalled ||
-                                      f->report.status == flow::FlowStatus::MaxIterations)) {
+        const double falling = stillFalling(f->report);
+        if (falling > 0) {
+            // Stopped by the iteration limit while converging: nothing is wrong with the flow, and
+            // a mode analysis (about 30 GMRES solves) would look for a cause that is not there.
+            why += format("; the residual was still falling (by a factor of %.3g over the last %d iterations): more "
+                          "flow.max_iterations, or continuing from the restart file, should converge it",
+                          falling, kStillFallingWindow);
+        } else if (case_.flow.stallModes && (f->report.status == flow::FlowStatus::Stalled ||
+                                             f->report.status == flow::FlowStatus::MaxIterations)) {
             why += stallModes(*f, mach, say, cancel);
         }
         if (f->coldRetry()) {
@@ -668,6 +675,13 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         warm_ = f->q;
     }
     e.secondsFlow = since(t);
+}
+
+double stillFalling(const flow::FlowReport& r) {
+    const int h = static_cast<int>(r.history.size());
+    if (r.status != flow::FlowStatus::MaxIterations || h <= kStillFallingWindow) return 0;
+    const double before = r.history[h - 1 - kStillFallingWindow].residual, now = r.history[h - 1].residual;
+    return now > 0 && now * kStillFallingFactor <= before ? before / now : 0;
 }
 
 int FlowResult::totalIterations() const {

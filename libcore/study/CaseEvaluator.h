@@ -143,6 +143,16 @@ inline constexpr double kWallBendWarning = 25.0;
 /// The wall bend for a human: how sharp, where, and what resolves it.
 std::string describeWallBend(const mesh::WallBend& b);
 
+/// A solve stopped by flow.max_iterations is "still falling" when its residual came down by at
+/// least kStillFallingFactor over its last kStillFallingWindow iterations: its reason then says
+/// so (more iterations, or a restart, converge it) instead of looking for a growing mode.
+inline constexpr int kStillFallingWindow = 10;
+inline constexpr double kStillFallingFactor = 10.0;
+
+/// The factor by which such a solve's residual fell over its last kStillFallingWindow
+/// iterations; 0 when it is not still falling (another status, too short or too slow a history).
+double stillFalling(const flow::FlowReport& r);
+
 /// A node of the flow grid, located for a human.
 struct FlowLocation {
     int block = -1;

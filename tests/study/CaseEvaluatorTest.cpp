@@ -259,6 +259,45 @@ TEST(CaseEvaluator, AWarmStartThatFailsIsSolvedAgainFromTheFreeStream) {
     EXPECT_NE(c.message.find("non-positive density"), std::string::npos) << c.message;
 }
 
+// A solve stopped by flow.max_iterations while its residual is still coming down is reported as
+// such (raise the limit or continue from the restart), without the growing-mode search that a
+// stall gets; a flat history or another status is not "still falling".
+TEST(CaseEvaluator, ASolveStoppedWhileConvergingSaysSoInsteadOfLookingForModes) {
+    study::CaseEvaluator& ev = evaluator();
+    study::EvaluationRequest cold;
+    cold.warmStart = false;
+    const study::Evaluation full = ev.evaluate(ev.caseValues(), cold);
+    ASSERT_TRUE(full.ok()) << full.message;
+    const std::vector<flow::FlowIteration>& h = full.flow->report.history;
+    // The last iteration limit at which the residual had fallen 10 times over 10 iterations.
+    int limit = 0;
+    for (int l = study::kStillFallingWindow + 1; l < static_cast<int>(h.size()); ++l) {
+        if (h[l - 1].residual * study::kStillFallingFactor <= h[l - 1 - study::kStillFallingWindow].residual) limit = l;
+    }
+    ASSERT_GT(limit, 0) << "no such window in " << h.size() << " iterations";
+    io::CaseFile c = smallBlendedWing();
+    c.flow.newton.maxIterations = limit;
+    study::CaseEvaluator stopped(c, study::loadGeometry(c.geometry));
+    const study::Evaluation e = stopped.evaluate(stopped.caseValues(), cold);
+    EXPECT_EQ(e.status, study::EvaluationStatus::FlowNotConverged);
+    ASSERT_TRUE(e.flow);
+    EXPECT_EQ(e.flow->report.status, flow::FlowStatus::MaxIterations);
+    EXPECT_NE(e.message.find("still falling"), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find("flow.max_iterations"), std::string::npos) << e.message;
+    EXPECT_FALSE(e.flow->modesChecked);
+    EXPECT_GE(study::stillFalling(e.flow->report), study::kStillFallingFactor);
+
+    flow::FlowReport flat = e.flow->report;
+    for (flow::FlowIteration& it : flat.history) it.residual = 1e-3;
+    EXPECT_EQ(study::stillFalling(flat), 0.0);
+    flat = e.flow->report;
+    flat.status = flow::FlowStatus::Stalled;  // a stall is not "still falling" whatever its history
+    EXPECT_EQ(study::stillFalling(flat), 0.0);
+    flat = e.flow->report;
+    flat.history.resize(study::kStillFallingWindow);  // too short to tell
+    EXPECT_EQ(study::stillFalling(flat), 0.0);
+}
+
 // The design-space robustness suite at CI size: the sample scaled by 0, 0.25, ..., 1 and the
 // first 6 random designs (seed 1, each variable up to 0.15 of its range from the sphere's value;
 // redrawn while the lattice is not injective or the grid folds) on the optimization grid's
