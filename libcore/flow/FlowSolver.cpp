@@ -92,7 +92,7 @@ double CflLaw::next(double R, double R0) const {
 
 void CflLaw::accepted(const FlowIteration& rec) {
     last_ = rec.cfl;
-    if (rec.linearResidual > o_.linearTolerance) {
+    if (rec.linearResidual > std::max(o_.linearTolerance, rec.linearTarget)) {
         // GMRES stopped short of the forcing tolerance: the system is too hard for the
         // preconditioner at this CFL. Step back instead of growing into harder systems.
         base_ *= o_.cflBackoff;
@@ -193,7 +193,7 @@ bool StepSystem::factor(std::string& why) {
     return true;
 }
 
-GmresReport StepSystem::solve(const double* r, double* dq) {
+GmresReport StepSystem::solve(const double* r, double* dq, double tolerance) {
     const long n = kVars * fm_.nodeCount;
     if (exact_ && !productsReady_) {
         jp_.setState(q_, r_);
@@ -211,7 +211,7 @@ GmresReport StepSystem::solve(const double* r, double* dq) {
     const LinearMap M = [&](const double* in, double* out) { ilu_.solve(in, out); };
     // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
     // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
-    const GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, n_.linearTolerance, n_.linearFailure,
+    const GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, tolerance, n_.linearFailure,
                           n_.gmresDeflation, n_.gmresSingleBasis || lowMemory_};
     for (long i = 0; i < n; ++i) rhs_[i] = -r[i];
     std::fill(dq, dq + n, 0.0);
@@ -304,6 +304,8 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     rep.lumping = system.lumping();
     int bestIteration = 0, rejections = 0;
     double cflHigh = 0;          // the largest CFL of an accepted step so far
+    double lastRatio = 1.0;      // the last accepted step's ||R|| after / before, when it was a
+                                 // full exact step of the case's own residual (else 1)
     bool newton = false;         // exact steps because the approximate ones crawled (sticky until
                                  // an exact step fails)
     int windowStart = 0;         // history index from which the approximate steps are judged
@@ -341,6 +343,16 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         }
         const double cfl = law.next(Rn, R0);
         bool exact = newton || (!approximateAfterFailure && Rn <= opt.exactBelow * R0);
+        const double before = Rn;
+        // The last step solves only as far as the tolerance needs: with linearTolerance (0.05)
+        // a Newton step that has a factor of 2 left to go reduces the residual by 20 and pays
+        // for the other 10 in GMRES iterations. Only when the step before (full, exact) already
+        // reduced the residual by more than the factor needed now, so the CFL is not what
+        // limits the step; if this one still falls short, the next step is an ordinary one.
+        const double needed = std::max(opt.relativeTolerance * R0, opt.absoluteTolerance) / Rn;
+        const double finalTolerance = (!continuing && needed > opt.linearTolerance && lastRatio <= needed)
+                                          ? std::min(opt.finalForcing, 0.5 * needed)
+                                          : 0.0;
         system.assemble(q.data(), r.data(), cfl, exact);
         FlowIteration rec;
         std::string why;             // why the step was rejected
@@ -351,9 +363,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
                 linearFailed = true;
                 return false;
             }
-            const GmresReport g = system.solve(r.data(), dq.data());
+            const double tolerance = exact ? std::max(opt.linearTolerance, finalTolerance) : opt.linearTolerance;
+            const GmresReport g = system.solve(r.data(), dq.data(), tolerance);
             rep.linearIterations += g.iterations;
-            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, 1.0, exact, 0.0, {}};
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, tolerance, 1.0, exact, 0.0, {}};
             if (!(g.relativeResidual <= opt.linearFailure)) {
                 linearFailed = true;
                 why = "GMRES reduced the linear residual only to " + sci(g.relativeResidual) + " in " +
@@ -387,13 +400,13 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             q.swap(qNew);
             r.swap(rNew);
             Rn = Rnew;
-            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, alpha * nodeScale, exact, elapsed(), {}};
+            rec = {it, Rn, Rn / R0, cfl, g.iterations, g.relativeResidual, tolerance, alpha * nodeScale, exact, elapsed(), {}};
             return true;
         };
         // A rejected attempt is reported too: the retries (more lumping, a smaller CFL) can take
         // long on a big grid, and a silent minute looks like a hang.
         auto attempt = [&]() -> bool {
-            rec = {it, Rn, Rn / R0, cfl, 0, 0.0, 0.0, exact, 0.0, {}};
+            rec = {it, Rn, Rn / R0, cfl, 0, 0.0, 0.0, 0.0, exact, 0.0, {}};
             if (step()) return true;
             rec.seconds = elapsed();
             rec.rejected = why;
@@ -442,6 +455,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             continue;
         }
         rejections = 0;
+        lastRatio = (rec.exact && rec.stepScale == 1.0 && active == &o) ? Rn / before : 1.0;
         law.accepted(rec);
         rep.cflBase = law.base();
         ++rep.iterations;

@@ -126,6 +126,14 @@ struct NewtonOptions {
                                        // (DissipationOptions::lumping) is doubled up to this
     double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
                                        // than this factor is rejected (CFL cut) instead of taken
+    double finalForcing = 0.25;        // the last Newton step's GMRES tolerance at most: when
+                                       // linearTolerance would take the residual past the
+                                       // tolerance by more than needed, and the step before (exact,
+                                       // full) reduced it by more than the factor left to go, GMRES
+                                       // solves only to half that factor (capped here) instead of
+                                       // linearTolerance (the 75k half-sphere's last step: 34
+                                       // GMRES iterations for a factor of 2.4; docs/performance.md).
+                                       // 0: always linearTolerance
     int preconditionerParts = 2;       // > 1: the ILU factors and solves this many groups of mesh
                                        // blocks in parallel, their coupling kept through a
                                        // separator ordered last (BlockIlu.h); fixed rather than
@@ -145,6 +153,7 @@ struct FlowIteration {
     double cfl = 0;
     int linearIterations = 0;
     double linearResidual = 0;    // GMRES relative residual reached
+    double linearTarget = 0;      // ... and the tolerance it aimed at (0: linearTolerance)
     double stepScale = 1;         // fraction of the Newton step taken
     bool exact = false;           // the step solved with the exact Jacobian (Newton)
     double seconds = 0;           // since the start
@@ -211,8 +220,9 @@ public:
     void setLocalCfl(const std::vector<double>* factors) { local_ = factors; }
     /// Factors the preconditioner; false with the reason when a pivot is singular.
     bool factor(std::string& why);
-    /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled).
-    GmresReport solve(const double* r, double* dq);
+    /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled), GMRES to
+    /// the relative tolerance given.
+    GmresReport solve(const double* r, double* dq, double tolerance);
     bool exact() const { return exact_; }
     /// The approximate Jacobian as the system matrix from now on (same preconditioner; assembled
     /// again if a low-memory exact step freed it).

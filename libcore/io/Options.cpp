@@ -207,6 +207,12 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         o.push_back(real<FlowCase>("linear_tolerance", "", 0, false, 1, false,
                                    [](FlowCase& c) -> double& { return c.newton.linearTolerance; },
                                    "GMRES relative tolerance per nonlinear iteration"));
+        o.push_back(real<FlowCase>("final_forcing", "", 0, true, 0.5, true,
+                                   [](FlowCase& c) -> double& { return c.newton.finalForcing; },
+                                   "the last Newton step's GMRES tolerance at most: when linear_tolerance would take "
+                                   "the residual past the tolerance by more than needed (and the step before reduced "
+                                   "it by more than the factor left), GMRES solves to half that factor, up to this "
+                                   "value (0: always linear_tolerance)"));
         o.push_back(integer<FlowCase>("ilu_fill", 0, 4, [](FlowCase& c) -> int& { return c.newton.iluFill; },
                             "level of fill of the block ILU preconditioner"));
         o.push_back(integer<FlowCase>("ilu_parts", 1, 64, [](FlowCase& c) -> int& { return c.newton.preconditionerParts; },

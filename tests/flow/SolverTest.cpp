@@ -108,6 +108,41 @@ TEST(FlowSolver, HalfSphereAtMachHalfConvergesTenOrdersWithoutLift) {
     EXPECT_LT(smax, 0.06);
 }
 
+TEST(FlowSolver, TheLastNewtonStepSolvesOnlyAsFarAsTheToleranceNeeds) {
+    // With the forcing term 0.05 throughout, the last Newton step takes the residual past the
+    // tolerance by up to a factor 20 and pays GMRES iterations for it. NewtonOptions::finalForcing
+    // solves that step only to half the factor left: the same path up to it, the same number of
+    // iterations, fewer GMRES iterations in the last, and still converged.
+    const auto& c = testing::halfSphere(0.5, 0.05, 5.0);
+    const ResidualOptions o = freeStreamAt(0.5, 0.0);
+    NewtonOptions always;
+    always.finalForcing = 0;
+    std::vector<double> qAlways, qFinal;
+    const FlowReport a = solve(c, o, qAlways, always);
+    const FlowReport f = solve(c, o, qFinal);
+    ASSERT_TRUE(a.converged()) << a.message;
+    ASSERT_TRUE(f.converged()) << f.message;
+    EXPECT_LE(f.finalResidual, 1e-10 * f.initialResidual);
+    ASSERT_EQ(a.history.size(), f.history.size());
+    const std::size_t last = f.history.size() - 1;
+    for (std::size_t i = 0; i < last; ++i) {
+        EXPECT_EQ(a.history[i].residual, f.history[i].residual) << "iteration " << i + 1;
+        EXPECT_EQ(a.history[i].linearIterations, f.history[i].linearIterations) << "iteration " << i + 1;
+    }
+    // The step before reduced the residual by more than the factor left, so the last one aimed
+    // at half that factor: looser than 0.05, at most finalForcing.
+    const double left = 1e-10 * f.initialResidual / f.history[last - 1].residual;
+    ASSERT_GT(left, 0.05) << "this grid's last step needs a factor of 20 or more: the forcing term is not loose there";
+    EXPECT_DOUBLE_EQ(f.history[last].linearTarget, std::min(0.25, 0.5 * left));
+    EXPECT_DOUBLE_EQ(a.history[last].linearTarget, 0.05);
+    EXPECT_LE(f.history[last].linearResidual, f.history[last].linearTarget);
+    EXPECT_LT(f.history[last].linearIterations, a.history[last].linearIterations);
+    EXPECT_LT(f.linearIterations, a.linearIterations);
+    std::printf("last step: %d GMRES iterations to %.3f against %d to 0.05 (a factor %.2f left)\n",
+                f.history[last].linearIterations, f.history[last].linearTarget, a.history[last].linearIterations,
+                1 / left);
+}
+
 TEST(FlowSolver, HandsACrawlingApproximatePhaseToNewton) {
     // Exact steps only through the crawl test (exactBelow 0): the disturbed box first runs on
     // approximate-Jacobian steps only, then with a contraction threshold above their observed
