@@ -495,6 +495,11 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
     iges::checkCycles(file);
     const geometry::LengthUnit& unit = fileUnit(file.global, rep, path);
     rep.unit = std::string(unit.name);
+    if (file.column65Line)
+        rep.notes.push_back("parameter data runs into column 65 (first on line " +
+                            std::to_string(file.column65Line) +
+                            "), which the IGES standard keeps blank: read as data, the directory "
+                            "entry pointer from columns 66-72 (pyGeo, for one, writes so)");
     if (file.global.modelScale != 1.0)
         rep.notes.push_back("the global section's model space scale is " +
                             number(file.global.modelScale) +
@@ -531,6 +536,15 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
             plan.how = Plan::Occt;
         } else {
             plan.refusal = {ignoredReason(e, plan.warnIgnored)};
+        }
+        if (plan.how == Plan::Occt && file.column65Line) {
+            // OpenCASCADE reads columns 1-64 of a parameter line: the delimiter in column 65
+            // would be lost and the parameters after it shift.
+            plan.how = Plan::Ignore;
+            plan.warnIgnored = true;
+            plan.refusal = {"OpenCASCADE would convert it, but it reads only columns 1-64 of the parameter "
+                            "lines and this file has data in column 65 (from line " +
+                            std::to_string(file.column65Line) + " on), so its parameters would shift"};
         }
         if (plan.how == Plan::Occt) {
             plan.occtIndex = static_cast<int>(occtEntities.size());

@@ -174,6 +174,7 @@ File parse(const std::string& text, const std::string& path) {
     std::map<int, std::string> data;  // directory entry -> its parameter data (columns 1-64)
     struct Lines {
         int first = 0, last = 0, count = 0;  // positions in the parameter section, 1-based
+        std::vector<std::size_t> starts;     // where each line's data begins in the entity's
     };
     std::map<int, Lines> dataLines;  // directory entry -> the parameter lines that name it
     int parameterLine = 0;
@@ -239,15 +240,29 @@ File parse(const std::string& text, const std::string& path) {
                                                  : line);
         }
         if (section == 'P') {
+            // The directory entry pointer is in columns 66-72 and column 65 is blank. Some writers
+            // (pyGeo's, for one) fill all 65 columns with data, the record's last delimiter in
+            // column 65: a character there is data. A pointer written from column 65 on (eight
+            // columns, 65-72) is read too, when 66-72 alone hold no number.
             bool ok = true;
-            const int de = fieldInt(line, 8, ok);  // columns 65-72
+            int de = fieldInt(line.substr(kDataColumns + 1, 7), 0, ok);  // columns 66-72
+            std::size_t columns = kDataColumns;
+            if (ok && de > 0) {
+                if (line[kDataColumns] != ' ') {
+                    columns = kDataColumns + 1;
+                    if (f.column65Line == 0) f.column65Line = lineNumber;
+                }
+            } else {
+                ok = true;
+                de = fieldInt(line, 8, ok);  // columns 65-72
+            }
             if (!ok || de <= 0)
-                failFile(
-                    path,
-                    "line " + std::to_string(lineNumber) +
-                        ": parameter data without its directory entry pointer in columns 65-72");
-            data[de].append(line, 0, kDataColumns);
+                failFile(path, "line " + std::to_string(lineNumber) +
+                                   ": parameter data without its directory entry pointer in columns 66-72 ('" +
+                                   line.substr(kDataColumns, 8) + "' in columns 65-72)");
             Lines& l = dataLines[de];
+            l.starts.push_back(data[de].size());
+            data[de].append(line, 0, columns);
             ++parameterLine;
             if (l.count++ == 0) l.first = parameterLine;
             l.last = parameterLine;
@@ -353,13 +368,17 @@ File parse(const std::string& text, const std::string& path) {
                        "its parameter data starts with type '" +
                            (tokens.empty() ? std::string() : tokens[0].text) + "'");
         for (std::size_t i = 0; i < tokens.size(); ++i) {
-            // Each parameter line holds kDataColumns of the data. A parameter other than a string
-            // that runs on across a line's end ("27, +" then "19,") is one parameter for us and
-            // two for OpenCASCADE, whose later parameters then shift (a crash in its B-rep
-            // transfer; found by fuzz_iges).
+            // A parameter other than a string that runs on across a line's end ("27, +" then
+            // "19,") is one parameter for us and two for OpenCASCADE, whose later parameters then
+            // shift (a crash in its B-rep transfer; found by fuzz_iges).
             const Token& t = tokens[i];
-            const std::size_t firstLine = t.begin / kDataColumns;
-            if (!t.string && t.end > t.begin && firstLine != (t.end - 1) / kDataColumns)
+            const std::vector<std::size_t>& starts = dataLines[e.de].starts;
+            auto lineOf = [&](std::size_t pos) {
+                return static_cast<std::size_t>(std::upper_bound(starts.begin(), starts.end(), pos) -
+                                                starts.begin()) - 1;
+            };
+            const std::size_t firstLine = lineOf(t.begin);
+            if (!t.string && t.end > t.begin && firstLine != lineOf(t.end - 1))
                 failEntity(f, e,
                            (i == 0 ? std::string("its type") : parameterName(i - 1)) + " ('" + t.text +
                                "') runs across the end of its parameter line " +

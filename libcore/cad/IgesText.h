@@ -38,6 +38,8 @@ struct File {
     std::string path;
     Global global;
     std::vector<Entity> entities;  // in directory order: entities[k].de == 2k + 1
+    int column65Line = 0;          // the first parameter line with data in column 65, which
+                                   // the standard keeps blank (0: none; see parse())
 
     /// The entity a pointer refers to, or nullptr (0, negative, even or past the end).
     const Entity* at(int de) const;

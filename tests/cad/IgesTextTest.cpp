@@ -17,6 +17,7 @@
 #include <TopoDS_Face.hxx>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <random>
 #include <sstream>
@@ -50,6 +51,7 @@ class HandIges {
         int transform = 0;
     };
     std::string unitFlag = "6", unitName = "1HM", modelScale = "1.0", version = "11";
+    bool column65 = false;  // parameter data in columns 1-65, the pointer in 66-72 (as pyGeo writes)
 
     int add(int type, std::vector<std::string> params, std::string status = "00000000",
             std::string label = "", int form = 0) {
@@ -79,7 +81,7 @@ class HandIges {
             tokens.insert(tokens.end(), e.params.begin(), e.params.end());
             for (std::size_t k = 0; k < tokens.size(); ++k) {
                 const std::string t = tokens[k] + (k + 1 < tokens.size() ? "," : ";");
-                if (lines.back().size() + t.size() > 64) lines.emplace_back();
+                if (lines.back().size() + t.size() > (column65 ? 65u : 64u)) lines.emplace_back();
                 lines.back() += t;
             }
             plines.push_back(lines);
@@ -98,7 +100,8 @@ class HandIges {
         }
         for (std::size_t k = 0; k < entities.size(); ++k)
             for (const std::string& l : plines[k]) {
-                std::snprintf(buf, sizeof buf, "%-64s%8d", l.c_str(), static_cast<int>(2 * k + 1));
+                std::snprintf(buf, sizeof buf, column65 ? "%-65s%7d" : "%-64s%8d", l.c_str(),
+                              static_cast<int>(2 * k + 1));
                 line(buf, 'P', ++p);
             }
         std::snprintf(buf, sizeof buf, "S%07dG%07dD%07dP%07d", 1, gs, d, p);
@@ -391,6 +394,78 @@ TEST(IgesText, RuledSurfacesAndTheParameterRangeOfA128) {
     EXPECT_TRUE(geometry::contains(poly, 0.5, 0.5));
     EXPECT_FALSE(geometry::contains(poly, 0.2, 0.5));
     EXPECT_FALSE(geometry::contains(poly, 0.8, 0.5));
+}
+
+TEST(IgesText, ParameterDataInColumn65IsReadAsData) {
+    // The standard keeps column 65 of a parameter line blank and puts the directory entry pointer
+    // in 66-72; some writers (pyGeo's) fill 65 columns with data, the line's last delimiter in
+    // column 65. Such a file reads exactly as the standard one, with a note.
+    HandIges f = trimmedWing();
+    const std::string standardPath = outputPath("hand_column64.igs"), widePath = outputPath("hand_column65.igs");
+    writeText(standardPath, f.text());
+    f.column65 = true;
+    const std::string wide = f.text();
+    std::size_t filled = 0;
+    for (std::size_t at = 0; at + 80 <= wide.size(); at = wide.find('\n', at) + 1)
+        if (wide[at + 72] == 'P' && wide[at + 64] != ' ') ++filled;
+    ASSERT_GT(filled, 0u) << "no parameter line of the fixture reaches column 65";
+    writeText(widePath, wide);
+    ReadReport standardReport, wideReport;
+    const geometry::PatchSet a = readIges(standardPath, &standardReport);
+    const geometry::PatchSet b = readIges(widePath, &wideReport);
+    ASSERT_EQ(a.size(), b.size());
+    for (int k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a.patches[k].points, b.patches[k].points) << k;
+        EXPECT_EQ(a.patches[k].weights, b.patches[k].weights) << k;
+        EXPECT_EQ(a.patches[k].knotsU, b.patches[k].knotsU) << k;
+        EXPECT_EQ(a.patches[k].knotsV, b.patches[k].knotsV) << k;
+        EXPECT_EQ(a.names[k], b.names[k]);
+        std::vector<const geometry::TrimLoop*> la{&a.trims[k].outer}, lb{&b.trims[k].outer};
+        for (const auto& h : a.trims[k].holes) la.push_back(&h);
+        for (const auto& h : b.trims[k].holes) lb.push_back(&h);
+        ASSERT_EQ(la.size(), lb.size());
+        for (std::size_t l = 0; l < la.size(); ++l) {
+            ASSERT_EQ(la[l]->curves.size(), lb[l]->curves.size());
+            for (std::size_t c = 0; c < la[l]->curves.size(); ++c) {
+                EXPECT_EQ(xy(la[l]->curves[c]), xy(lb[l]->curves[c]));
+                EXPECT_EQ(la[l]->curves[c].curve.knots, lb[l]->curves[c].curve.knots);
+            }
+        }
+    }
+    EXPECT_TRUE(wideReport.warnings.empty()) << wideReport.warnings.front();
+    bool noted = false;
+    for (const std::string& n : wideReport.notes) noted = noted || n.find("column 65") != std::string::npos;
+    EXPECT_TRUE(noted);
+    for (const std::string& n : standardReport.notes) EXPECT_EQ(n.find("column 65"), std::string::npos) << n;
+
+    // OpenCASCADE reads columns 1-64 only: a surface it would convert is not read from such a
+    // file (its parameters would shift), with a warning that says why, instead of a wrong shape.
+    HandIges g;
+    g.column65 = true;
+    const int l1 = g.add(110, {"0.", "0.", "0.", "2.", "0.", "0."}, "00010000");
+    const int l2 = g.add(110, {"0.", "1.", "0.5", "2.", "1.", "1.5"}, "00010000");
+    g.add(118, {std::to_string(l1), std::to_string(l2), "0", "0"});
+    // A bilinear 128 with every parameter 12 columns wide, as pyGeo writes them: five per line
+    // fill columns 1-65.
+    std::vector<std::string> wideParams;
+    for (const char* v : {"1",  "1",  "1",  "1",  "0",  "0",  "1",  "0",  "0",  "0.", "0.", "1.", "1.",
+                          "0.", "0.", "1.", "1.", "1.", "1.", "1.", "1.", "0.", "0.", "0.", "1.", "0.",
+                          "0.", "0.", "1.", "0.", "1.", "1.", "0.", "0.", "1.", "0.", "1."})
+        wideParams.push_back(std::string(12 - std::strlen(v), ' ') + v);
+    g.add(128, wideParams);
+    const std::string mixedPath = outputPath("hand_column65_ruled.igs");
+    const std::string mixedText = g.text();
+    bool reaches = false;
+    for (std::size_t at = 0; at + 80 <= mixedText.size(); at = mixedText.find('\n', at) + 1)
+        reaches = reaches || (mixedText[at + 72] == 'P' && mixedText[at + 64] != ' ');
+    ASSERT_TRUE(reaches);
+    writeText(mixedPath, mixedText);
+    ReadReport mixed;
+    const geometry::PatchSet c = readIges(mixedPath, &mixed);
+    ASSERT_EQ(c.size(), 1);  // the 128
+    ASSERT_EQ(mixed.warnings.size(), 1u);
+    EXPECT_NE(mixed.warnings[0].find("column 65"), std::string::npos) << mixed.warnings[0];
+    EXPECT_NE(mixed.warnings[0].find("118"), std::string::npos) << mixed.warnings[0];
 }
 
 TEST(IgesText, UnitFlagsNamesAndModelScale) {
