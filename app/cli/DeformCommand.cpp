@@ -104,6 +104,11 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             progress(false, "enclosed volume not computed (%d trimmed patches)", set.trimmedCount());
         else
             progress(false, "enclosed volume %.10g (baseline %.10g)", volume, volume0);
+        if (volume0 < 0)
+            std::fprintf(stderr,
+                         "aeroform-cli deform: warning: the enclosed volume is negative: the patches' normals point "
+                         "into the body, or the shape is not a half-body closed by the symmetry plane Y = 0 (the "
+                         "volume, and min_volume, assume both)\n");
         // The planform (Section V of the paper): half-span, shadow on Z = 0, aspect ratio.
         geometry::Planform planform0, planform;
         if (!trimmed) {

@@ -436,6 +436,15 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     summary.startVolume = model.volume(design(p.start));
     const bool volumeConstraint = c.minVolume.has_value();
     const double infinity = std::numeric_limits<double>::infinity();
+    if (volumeConstraint && !(summary.startVolume > 0)) {
+        // The volume is 1/3 of the flux of x out through the patches, the body closed by the
+        // symmetry plane Y = 0: a shape whose patches face inward (as a CAD file may write them)
+        // has a negative one, and a bound on it would keep the body from growing, not shrinking.
+        throw InputError("constraints.min_volume: the start shape's enclosed volume is " + format("%.6g", summary.startVolume) +
+                         " (1/3 of the flux of x through the patches, the body closed by the symmetry plane Y = 0): "
+                         "its patches' normals point into the body, or it is not a half-body closed by Y = 0; "
+                         "reverse the patches' orientation, or drop min_volume");
+    }
     if (volumeConstraint) {
         const double minimum = std::isnan(*c.minVolume) ? summary.startVolume : *c.minVolume;
         p.nonlinear.push_back({"volume / start volume", minimum / summary.startVolume, infinity});

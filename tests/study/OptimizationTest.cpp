@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/Error.h"
 #include "ffd/ShapeConstraints.h"
+#include "geometry/EnclosedVolume.h"
 #include "io/CaseFile.h"
 #include "io/FlowFiles.h"
 #include "mesh/Quality.h"
@@ -112,6 +114,49 @@ TEST(Optimization, AFailedFlowsGrowingModeIsRecordedInTheHistory) {
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
 // optimizer after the flow ones, with their values at the start and gradient rows in the
 // optimizer's scaled variables (checked against differences of the model's functions).
+TEST(Optimization, AMinimumVolumeOnPatchesFacingInwardIsRefusedWithTheReason) {
+    // CAD files orient patches either way. The half-sphere with every patch's u direction
+    // reversed (its normals into the body) has the enclosed volume -2 pi / 3, and a bound "at
+    // least the start's volume" on it would keep the body from growing instead of shrinking: the
+    // run stops before its first evaluation and says why.
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/inward_volume";
+    std::filesystem::remove_all(dir);
+    io::CaseFile c = small("sphere_to_bwb.json");
+    ASSERT_TRUE(c.minVolume.has_value());
+    c.optimization.history = dir + "/history.csv";
+    c.optimization.iterations.clear();
+    geometry::PatchSet set = study::loadGeometry(c.geometry);
+    const double outward = geometry::enclosedVolume(set);
+    for (geometry::Patch& p : set.patches) {
+        std::vector<double> points(p.points.size());
+        for (int j = 0; j < p.countV; ++j)
+            for (int i = 0; i < p.countU; ++i)
+                for (int k = 0; k < 3; ++k)
+                    points[3 * (i + p.countU * j) + k] = p.points[3 * (p.countU - 1 - i + p.countU * j) + k];
+        p.points = points;
+        std::vector<double> knots(p.knotsU.rbegin(), p.knotsU.rend());
+        for (double& u : knots) u = p.knotsU.front() + p.knotsU.back() - u;
+        p.knotsU = knots;
+        ASSERT_TRUE(p.weights.empty());
+    }
+    EXPECT_NEAR(geometry::enclosedVolume(set), -outward, 1e-12);
+    study::CaseEvaluator ev(c, set);
+    study::OptimizationOptions o;
+    o.fresh = true;
+    int records = 0;
+    o.onRecord = [&](const study::OptimizationRecord&) { ++records; };
+    try {
+        (void)study::optimizeCase(ev, o);
+        ADD_FAILURE() << "the run started";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("constraints.min_volume"), std::string::npos) << m;
+        EXPECT_NE(m.find("-2.0944"), std::string::npos) << m;
+        EXPECT_NE(m.find("normals point into the body"), std::string::npos) << m;
+    }
+    EXPECT_EQ(records, 0);
+}
+
 TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimizer) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/shape_constraints";
     std::filesystem::create_directories(dir);
