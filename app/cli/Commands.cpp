@@ -174,6 +174,29 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
         t += buf;
         std::snprintf(buf, sizeof buf, "largest edge gap %.3e\n", adj.maxGap);
         t += buf;
+        if (!adj.free.empty()) {
+            // Edges pair only when their end points coincide: an edge split differently on the two
+            // sides (a T-junction, as ship-hull files have) counts as free there. Measured along the
+            // other patches' whole boundaries instead, as for trimmed sets.
+            const geometry::BoundaryGaps gaps = geometry::boundaryGaps(set, 1e-6);
+            j["boundary_pieces"] = gaps.pieces;
+            j["matched_pieces"] = gaps.matched;
+            j["free_pieces"] = gaps.free;
+            j["partly_free_pieces"] = gaps.partlyFree;
+            j["max_boundary_gap"] = gaps.maxGap;
+            std::snprintf(buf, sizeof buf,
+                          "boundary         %d patch edges (poles left out): %d along another patch's boundary (also where "
+                          "the two sides are split differently; %d of them partly free), %d free\n",
+                          gaps.pieces, gaps.matched, gaps.partlyFree, gaps.free);
+            t += buf;
+            if (gaps.worstPatch >= 0) {
+                const auto& w = gaps.worstPoint;
+                j["max_boundary_gap_at"] = {{"patch", gaps.worstPatch + 1}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
+                std::snprintf(buf, sizeof buf, "largest gap      %.3e along the boundaries, at %s (%.6g, %.6g, %.6g)\n",
+                              gaps.maxGap, set.describe(gaps.worstPatch).c_str(), w[0], w[1], w[2]);
+                t += buf;
+            }
+        }
     } else {
         // Patch edges are not the body's edges: measure along the trim loops.
         const geometry::BoundaryGaps gaps = geometry::boundaryGaps(set, 1e-6);
@@ -185,8 +208,16 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
                       "edges            %d boundary pieces (trim curves and untrimmed patch edges): %d along another patch, %d free\n",
                       gaps.pieces, gaps.matched, gaps.free);
         t += buf;
-        std::snprintf(buf, sizeof buf, "largest edge gap %.3e (along the trimmed boundaries)\n", gaps.maxGap);
+        std::snprintf(buf, sizeof buf, "largest edge gap %.3e (along the trimmed boundaries)", gaps.maxGap);
         t += buf;
+        if (gaps.worstPatch >= 0 && gaps.maxGap > 0) {
+            const auto& w = gaps.worstPoint;
+            j["max_edge_gap_at"] = {{"patch", gaps.worstPatch + 1}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
+            std::snprintf(buf, sizeof buf, " at %s (%.6g, %.6g, %.6g)", set.describe(gaps.worstPatch).c_str(), w[0],
+                          w[1], w[2]);
+            t += buf;
+        }
+        t += "\n";
     }
     return info;
 }

@@ -315,27 +315,47 @@ BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance) {
             continue;
         }
         ++out.matched;
+        // The distance to every other patch's boundary, not only the one found at the midpoint:
+        // a long edge may lie along several patches on the other side (a T-junction; the KCS
+        // hull's edges measured 29 m against the one patch at their midpoints).
         auto gapAt = [&](const Vec3<double>& x) {
             double d = std::numeric_limits<double>::infinity();
             for (const Piece& b : pieces)
-                if (b.patch == best && distanceToBox(b, x) < d) d = std::min(d, distanceTo(set, b, x));
+                if (b.patch != a.patch && distanceToBox(b, x) < d) d = std::min(d, distanceTo(set, b, x));
             return d;
         };
+        // Parts farther from every other boundary than the matching distance (1 % of the piece's
+        // length) are not a gap but free boundary (an edge that runs on past the patches along
+        // it, e.g. onto the symmetry plane): left out of the gap, the piece counted partly free.
+        const double capture = matchDistance;
         double gap = 0;
         std::size_t worst = 0;
+        bool partly = false;
         for (std::size_t k = 0; k < a.samples.size(); ++k) {
             const double d = gapAt(a.samples[k]);
-            if (d > gap) {
+            if (d > capture) {
+                partly = true;
+            } else if (d > gap) {
                 gap = d;
                 worst = k;
             }
         }
+        out.partlyFree += partly ? 1 : 0;
+        Vec3<double> where = a.samples[worst];
         if (gap > 0) {
             double at = 0;
             const double lo = a.t[worst == 0 ? 0 : worst - 1], hi = a.t[std::min(worst + 1, a.t.size() - 1)];
-            gap = std::max(gap, golden([&](double t) { return gapAt(image(set, a, t)); }, lo, hi, true, at));
+            const double refined = golden([&](double t) { return gapAt(image(set, a, t)); }, lo, hi, true, at);
+            if (refined > gap && refined <= capture) {
+                gap = refined;
+                where = image(set, a, at);
+            }
         }
-        out.maxGap = std::max(out.maxGap, gap);
+        if (gap > out.maxGap || out.worstPatch < 0) {
+            out.maxGap = std::max(out.maxGap, gap);
+            out.worstPatch = a.patch;
+            out.worstPoint = {where[0], where[1], where[2]};
+        }
     }
     return out;
 }

@@ -1,6 +1,8 @@
 #pragma once
 // Connectivity of a patch network: the unique control-point index (coincident control points
 // merged) and the edge adjacency with its watertightness report.
+#include <array>
+
 #include "geometry/PatchSet.h"
 
 namespace aero::geometry {
@@ -45,13 +47,22 @@ Adjacency buildAdjacency(const PatchSet& set, double tolerance = 1e-6);
 /// The boundary pieces are the curves of the trim loops mapped onto their patches (and the four
 /// edges of each untrimmed patch). A piece is matched when its midpoint lies within 1% of its
 /// length (at least `tolerance`) of another patch's boundary; its gap is then the largest
-/// distance from the piece to that boundary (33 samples, the worst one refined). Pieces split
-/// differently on the two sides are handled: the distance is to the other patch's whole boundary.
+/// distance from the piece to the other patches' boundaries (33 samples, the worst one refined;
+/// parts farther than the 1 % are free boundary, see partlyFree).
+/// Pieces split differently on the two sides are handled: the distance is to the boundaries of
+/// all the other patches, so an edge along two patches on the other side (a T-junction) is
+/// measured against both. Untrimmed sets use it too (`aeroform-cli info`) for the edges the
+/// end-point pairing of buildAdjacency leaves free.
 struct BoundaryGaps {
     int pieces = 0;     // non-degenerate boundary pieces
     int matched = 0;    // pieces along another patch's boundary
     int free = 0;       // pieces with no neighbour (e.g. on a symmetry plane)
+    int partlyFree = 0;  // matched pieces with parts farther than 1 % of their length from every
+                         // other boundary (an edge running on past the patches along it): those
+                         // parts are free boundary, left out of the gap
     double maxGap = 0;  // largest gap over matched pieces
+    int worstPatch = -1;                 // the patch of the piece with that gap (-1: none)
+    std::array<double, 3> worstPoint{};  // ... and the point of the piece where it is
 };
 BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance = 1e-6);
 

@@ -77,3 +77,47 @@ TEST(Topology, GapIsZeroForDifferentButEquivalentEdgeParameterizations) {
     EXPECT_FALSE(adj.shared[0].identicalNets);
     EXPECT_LT(adj.maxGap, 1e-12);
 }
+
+namespace {
+
+// A bilinear patch over [x0, x1] x [y0, y1] in the plane z = 0.
+Patch rectangle(double x0, double x1, double y0, double y1) {
+    Patch p;
+    p.degreeU = p.degreeV = 1;
+    p.countU = p.countV = 2;
+    p.knotsU = p.knotsV = {0, 0, 1, 1};
+    p.points = {x0, y0, 0, x1, y0, 0, x0, y1, 0, x1, y1, 0};
+    return p;
+}
+
+}  // namespace
+
+TEST(Topology, EdgesSplitDifferentlyOnTheTwoSidesAreMeasuredAgainstAllTheirNeighbours) {
+    // A T-junction: one patch's edge x = 1, y in [0, 2] runs along two patches on the other side
+    // (y in [0, 1] and [1, 2]). The end-point pairing finds no shared edge there; the boundary
+    // measure finds all three pieces along other patches, with no gap.
+    PatchSet set;
+    set.patches = {rectangle(0, 1, 0, 2), rectangle(1, 2, 0, 1), rectangle(1, 2, 1, 2)};
+    const Adjacency adj = buildAdjacency(set);
+    EXPECT_EQ(adj.shared.size(), 1u);  // only the two small patches' edge y = 1 pairs
+    BoundaryGaps gaps = boundaryGaps(set);
+    EXPECT_EQ(gaps.pieces, 12);
+    EXPECT_EQ(gaps.matched, 5);  // x = 1 on the three patches, y = 1 on the two small ones
+    EXPECT_EQ(gaps.partlyFree, 0);
+    EXPECT_LT(gaps.maxGap, 1e-14);
+    // Open the junction by 1e-3 along the upper small patch: the long edge measures it there
+    // (against the one patch it was not matched to at its midpoint), and says where.
+    set.patches[2].points[0] += 1e-3;
+    set.patches[2].points[6] += 1e-3;
+    gaps = boundaryGaps(set);
+    EXPECT_NEAR(gaps.maxGap, 1e-3, 1e-12);
+    ASSERT_GE(gaps.worstPatch, 0);
+    EXPECT_GT(gaps.worstPoint[1], 1.0);
+    // The long edge running on past its neighbours (y up to 3): its free part is not a gap.
+    set.patches[2].points[0] -= 1e-3;
+    set.patches[2].points[6] -= 1e-3;
+    set.patches[0] = rectangle(0, 1, 0, 2.1);
+    gaps = boundaryGaps(set);
+    EXPECT_EQ(gaps.partlyFree, 1);
+    EXPECT_LT(gaps.maxGap, 1e-14);
+}
