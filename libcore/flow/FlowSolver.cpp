@@ -348,7 +348,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         // a Newton step that has a factor of 2 left to go reduces the residual by 20 and pays
         // for the other 10 in GMRES iterations. Only when the step before (full, exact) already
         // reduced the residual by more than the factor needed now, so the CFL is not what
-        // limits the step; if this one still falls short, the next step is an ordinary one.
+        // limits the step; if this one falls short, the next step aims at what is left (the same rule).
         const double needed = std::max(opt.relativeTolerance * R0, opt.absoluteTolerance) / Rn;
         const double finalTolerance = (!continuing && needed > opt.linearTolerance && lastRatio <= needed)
                                           ? std::min(opt.finalForcing, 0.5 * needed)
