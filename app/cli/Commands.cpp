@@ -191,7 +191,7 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
             t += buf;
             if (gaps.worstPatch >= 0) {
                 const auto& w = gaps.worstPoint;
-                j["max_boundary_gap_at"] = {{"patch", gaps.worstPatch + 1}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
+                j["max_boundary_gap_at"] = {{"patch", gaps.worstPatch}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
                 std::snprintf(buf, sizeof buf, "largest gap      %.3e along the boundaries, at %s (%.6g, %.6g, %.6g)\n",
                               gaps.maxGap, set.describe(gaps.worstPatch).c_str(), w[0], w[1], w[2]);
                 t += buf;
@@ -212,7 +212,7 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
         t += buf;
         if (gaps.worstPatch >= 0 && gaps.maxGap > 0) {
             const auto& w = gaps.worstPoint;
-            j["max_edge_gap_at"] = {{"patch", gaps.worstPatch + 1}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
+            j["max_edge_gap_at"] = {{"patch", gaps.worstPatch}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
             std::snprintf(buf, sizeof buf, " at %s (%.6g, %.6g, %.6g)", set.describe(gaps.worstPatch).c_str(), w[0],
                           w[1], w[2]);
             t += buf;
