@@ -20,6 +20,7 @@
 #include "cad/Occt.h"
 #include "common/AtomicFile.h"
 #include "common/Error.h"
+#include "geometry/Trim.h"
 #include "geometry/Units.h"
 #include "nurbs/Basis.h"
 
@@ -347,7 +348,7 @@ Refusal loopOf(const File& f, int de, TrimLoop& loop, std::set<std::string>& con
 
 /// Entity 144 over a 128 with parameter-space loops, exactly.
 Refusal trimmed144(const File& f, const Entity& e, Patch& p, PatchTrim& trim, std::string& name,
-                   std::set<std::string>& converted) {
+                   std::set<std::string>& converted, bool& wholeRectangle) {
     const Entity& s = *f.at(iges::integer(f, e, 0));
     if (e.transform) return {"it has a transformation matrix"};
     if (s.type != 128)
@@ -361,8 +362,14 @@ Refusal trimmed144(const File& f, const Entity& e, Patch& p, PatchTrim& trim, st
     const int n2 = iges::integer(f, e, 2);
     name = entityName(f, e, 4 + static_cast<std::size_t>(n2));
     if (name.empty()) name = baseName;
-    if (iges::integer(f, e, 1) == 1)
+    if (iges::integer(f, e, 1) == 1) {
         if (Refusal r = loopOf(f, iges::integer(f, e, 3), trim.outer, converted)) return r;
+        // An outer loop around the whole parameter rectangle trims nothing (Parasolid, for one,
+        // writes one around every surface): the patch is untrimmed, as the STEP reader makes it,
+        // and can go where trimmed patches cannot (the enclosed volume, the mesh).
+        wholeRectangle = geometry::onParameterBoundary(trim.outer, p);
+        if (wholeRectangle) trim.outer = {};
+    }
     for (int k = 0; k < n2; ++k) {
         TrimLoop hole;
         if (Refusal r =
@@ -454,6 +461,7 @@ struct Plan {
     Refusal refusal;                        // why not direct (for Occt) or why ignored
     std::set<std::string> trimConversions;  // direct trims computed exactly (arcs, transformations)
     bool warnIgnored = false;
+    bool wholeRectangle = false;            // a 144 whose outer loop was its rectangle (dropped)
     int occtIndex = -1;
 };
 
@@ -526,7 +534,7 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
         if (e.type == 128 || e.type == 144) {
             plan.refusal = e.type == 128 ? surface128(file, e, plan.patch, plan.trim, plan.name)
                                          : trimmed144(file, e, plan.patch, plan.trim, plan.name,
-                                                      plan.trimConversions);
+                                                      plan.trimConversions, plan.wholeRectangle);
             plan.how = !plan.refusal ? Plan::Direct
                                      : (plan.refusal.unsupported ? Plan::Ignore : Plan::Occt);
             plan.warnIgnored = plan.refusal.unsupported;
@@ -588,8 +596,13 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
             if (e.type == 128 && plan.trim.trimmed())
                 item.note =
                     "its parameter range is narrower than its knots: kept as a rectangular trim";
+            if (plan.wholeRectangle)
+                item.note = std::string("its outer loop is the whole parameter rectangle: ") +
+                            (plan.trim.trimmed() ? "only its holes trim it" : "read as untrimmed");
+            std::string conversions;
             for (const std::string& c : plan.trimConversions)
-                item.note += (item.note.empty() ? "trim curves: " : ", ") + c;
+                conversions += (conversions.empty() ? "trim curves: " : ", ") + c;
+            if (!conversions.empty()) item.note += (item.note.empty() ? "" : "; ") + conversions;
             item.patches.push_back(addPatch(std::move(plan.patch), std::move(plan.trim),
                                             plan.name.empty() ? generatedName(e) : plan.name));
         } else if (plan.how == Plan::Ignore) {

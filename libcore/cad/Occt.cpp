@@ -292,21 +292,6 @@ TrimCurve toTrimCurve(const Handle(Geom2d_Curve) & pcurve, double f, double l) {
     return out;
 }
 
-/// Whether every point of the loop lies on the boundary of the parameter rectangle.
-bool onRectangle(const TrimLoop& loop, const Patch& p) {
-    const double u0 = p.knotsU.front(), u1 = p.knotsU.back(), v0 = p.knotsV.front(),
-                 v1 = p.knotsV.back();
-    const double tol = 1e-9 * std::max(u1 - u0, v1 - v0);
-    for (const TrimCurve& c : loop.curves)
-        for (int k = 0; k <= 8; ++k) {
-            const geometry::Point2 uv = geometry::evaluate(c, c.first + (c.last - c.first) * k / 8);
-            const bool edge = std::abs(uv[0] - u0) <= tol || std::abs(uv[0] - u1) <= tol ||
-                              std::abs(uv[1] - v0) <= tol || std::abs(uv[1] - v1) <= tol;
-            if (!edge) return false;
-        }
-    return true;
-}
-
 /// Largest distance from S(p-curve(t)) to the edge's model-space curve (projected onto it: the
 /// geometric distance, whatever the two parametrizations).
 double edgeDeviation(const TopoDS_Edge& edge, const Handle(Geom2d_Curve) & pcurve, double f,
@@ -465,7 +450,7 @@ Face convertFace(const TopoDS_Face& input, bool projectEdges) {
         if (!out.trimProblem.empty()) break;
         if (loop.curves.empty()) continue;
         if (wire.IsSame(outer)) {
-            if (!onRectangle(loop, out.patch)) trim.outer = std::move(loop);
+            if (!geometry::onParameterBoundary(loop, out.patch)) trim.outer = std::move(loop);
         } else {
             trim.holes.push_back(std::move(loop));
         }

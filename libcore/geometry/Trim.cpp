@@ -54,6 +54,20 @@ TrimLoop rectangleLoop(double u0, double u1, double v0, double v1) {
     return loop;
 }
 
+bool onParameterBoundary(const TrimLoop& loop, const nurbs::Surface<double>& patch) {
+    const double u0 = patch.knotsU.front(), u1 = patch.knotsU.back(), v0 = patch.knotsV.front(),
+                 v1 = patch.knotsV.back();
+    const double tol = 1e-9 * std::max(u1 - u0, v1 - v0);
+    for (const TrimCurve& c : loop.curves)
+        for (int k = 0; k <= 8; ++k) {
+            const Point2 uv = evaluate(c, c.first + (c.last - c.first) * k / 8);
+            const bool edge = std::abs(uv[0] - u0) <= tol || std::abs(uv[0] - u1) <= tol ||
+                              std::abs(uv[1] - v0) <= tol || std::abs(uv[1] - v1) <= tol;
+            if (!edge) return false;
+        }
+    return true;
+}
+
 double closureGap(const TrimLoop& loop) {
     double gap = 0;
     const std::size_t n = loop.curves.size();

@@ -50,6 +50,11 @@ TrimCurve lineCurve(const Point2& a, const Point2& b);
 /// The rectangle [u0, u1] x [v0, v1] as four lines, counter-clockwise from (u0, v0).
 TrimLoop rectangleLoop(double u0, double u1, double v0, double v1);
 
+/// Whether every point of the loop lies on the boundary of the patch's parameter rectangle (its
+/// knot range, to 1e-9 of its size; 9 samples per curve): an outer loop that trims nothing, as
+/// some CAD systems write around every surface. The readers drop it (the patch is untrimmed).
+bool onParameterBoundary(const TrimLoop& loop, const nurbs::Surface<double>& patch);
+
 /// Largest gap between consecutive curve ends of a loop (including last -> first).
 double closureGap(const TrimLoop& loop);
 

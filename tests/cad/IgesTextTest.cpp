@@ -468,6 +468,61 @@ TEST(IgesText, ParameterDataInColumn65IsReadAsData) {
     EXPECT_NE(mixed.warnings[0].find("118"), std::string::npos) << mixed.warnings[0];
 }
 
+TEST(IgesText, AnOuterLoopAroundTheWholeParameterRectangleLeavesThePatchUntrimmed) {
+    // Some CAD systems (Parasolid) write every surface as a 144 whose outer loop is the
+    // surface's own parameter rectangle: it trims nothing. The patch is read untrimmed (as the
+    // STEP reader reads the same face), with a note; a hole in such a patch still trims it.
+    auto file = [](bool hole) {
+        HandIges f;
+        const int s = f.add(128, {"1",  "1",  "1",  "1",  "0",  "0",  "1",  "0",  "0",  "0.", "0.", "1.", "1.",
+                                  "0.", "0.", "2.", "2.", "1.", "1.", "1.", "1.", "0.", "0.", "0.", "1.", "0.",
+                                  "0.", "0.", "2.", "0.", "1.", "2.", "0.", "0.", "1.", "0.", "2."},
+                            "00010000");
+        // The rectangle [0, 1] x [0, 2] as four parameter-space lines, counter-clockwise.
+        const int a = f.add(110, {"0.", "0.", "0.", "1.", "0.", "0."}, "00010500");
+        const int b = f.add(110, {"1.", "0.", "0.", "1.", "2.", "0."}, "00010500");
+        const int c = f.add(110, {"1.", "2.", "0.", "0.", "2.", "0."}, "00010500");
+        const int d = f.add(110, {"0.", "2.", "0.", "0.", "0.", "0."}, "00010500");
+        const int loop = f.add(102, {"4", std::to_string(a), std::to_string(b), std::to_string(c), std::to_string(d)},
+                               "00010500");
+        const int outer = f.add(142, {"0", std::to_string(s), std::to_string(loop), "0", "1"}, "00010000");
+        if (!hole) {
+            f.add(144, {std::to_string(s), "1", "0", std::to_string(outer)}, "00000000", "PANEL");
+            return f;
+        }
+        // A triangular hole inside.
+        const int t = f.add(126, {"3",   "1",  "1",  "1",  "1",   "0",   "0.", "0.", "1.", "2.",  "3.", "3.",
+                                  "1.",  "1.", "1.", "1.", "0.2", "0.5", "0.", "0.8", "0.5", "0.", "0.5",
+                                  "1.5", "0.", "0.2", "0.5", "0.", "0.", "3.", "0.", "0.", "1."},
+                            "00010500");
+        const int inner = f.add(142, {"0", std::to_string(s), std::to_string(t), "0", "1"}, "00010000");
+        f.add(144, {std::to_string(s), "1", "1", std::to_string(outer), std::to_string(inner)}, "00000000", "PANEL");
+        return f;
+    };
+    const std::string plainPath = outputPath("hand_rectangle_loop.igs"), holePath = outputPath("hand_rectangle_hole.igs");
+    writeText(plainPath, file(false).text());
+    writeText(holePath, file(true).text());
+    ReadReport plainReport, holeReport;
+    const geometry::PatchSet plain = readIges(plainPath, &plainReport);
+    ASSERT_EQ(plain.size(), 1);
+    EXPECT_FALSE(plain.trimmed(0));
+    EXPECT_EQ(plain.names[0], "PANEL");
+    ASSERT_EQ(plainReport.items.size(), 1u);
+    EXPECT_EQ(plainReport.items[0].trim, TrimOutcome::None);
+    EXPECT_NE(plainReport.items[0].note.find("whole parameter rectangle: read as untrimmed"), std::string::npos)
+        << plainReport.items[0].note;
+    EXPECT_TRUE(plainReport.warnings.empty());
+    const geometry::PatchSet holed = readIges(holePath, &holeReport);
+    ASSERT_EQ(holed.size(), 1);
+    ASSERT_TRUE(holed.trimmed(0));
+    EXPECT_TRUE(holed.trims[0].outer.curves.empty());
+    ASSERT_EQ(holed.trims[0].holes.size(), 1u);
+    const geometry::TrimPolygons poly = geometry::polygonize(holed.trims[0], holed.patches[0]);
+    EXPECT_TRUE(geometry::contains(poly, 0.9, 1.9));
+    EXPECT_FALSE(geometry::contains(poly, 0.5, 0.9));
+    EXPECT_NE(holeReport.items[0].note.find("only its holes trim it"), std::string::npos) << holeReport.items[0].note;
+}
+
 TEST(IgesText, UnitFlagsNamesAndModelScale) {
     struct Case {
         std::string flag, name, unit;
