@@ -239,22 +239,38 @@ double golden(F f, double lo, double hi, bool maximum, double& best, int steps =
     return better(f1, f2) ? f1 : f2;
 }
 
-/// Distance from x to the piece's image: the nearest sample, then refined between its neighbours.
+/// Distance from x to the piece's image: refined (golden section) in every interval between two
+/// samples where the curve can come nearer than the best found so far. By the triangle
+/// inequality a point of the arc between samples a and b, of length L, is at least
+/// (d_a + d_b - L) / 2 from x; L is taken as 1.1 times the chord. Not only around the nearest
+/// sample: near a thin trailing edge or leading edge of a closed airfoil loop the nearest sample
+/// can lie on the other surface (an Onshape wing's tip edge measured 1 mm, the airfoil's
+/// thickness there, from a neighbour 2e-6 away).
 double distanceTo(const PatchSet& set, const Piece& p, const Vec3<double>& x) {
-    std::size_t k = 0;
-    double d = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < p.samples.size(); ++i) {
-        const double di = (p.samples[i] - x).norm();
-        if (di < d) {
-            d = di;
-            k = i;
-        }
+    const std::size_t n = p.samples.size();
+    std::vector<double> d(n);
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i) {
+        d[i] = (p.samples[i] - x).norm();
+        best = std::min(best, d[i]);
     }
-    if (d == 0) return 0;
-    const double lo = p.t[k == 0 ? 0 : k - 1], hi = p.t[std::min(k + 1, p.t.size() - 1)];
-    double at = 0;
-    // The distance is V-shaped at a point on the curve: 80 steps shrink the bracket to round-off.
-    return std::min(d, golden([&](double t) { return (image(set, p, t) - x).norm(); }, lo, hi, false, at, 80));
+    if (best == 0) return 0;
+    // Intervals in order of their lower bound, so the nearest is refined first and the bound
+    // then prunes the rest.
+    std::vector<std::pair<double, std::size_t>> intervals;
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+        const double chord = (p.samples[k + 1] - p.samples[k]).norm();
+        intervals.emplace_back(0.5 * (d[k] + d[k + 1] - 1.1 * chord), k);
+    }
+    std::sort(intervals.begin(), intervals.end());
+    for (const auto& [bound, k] : intervals) {
+        if (bound >= best) break;
+        double at = 0;
+        // The distance is V-shaped at a point on the curve: 80 steps shrink the bracket to round-off.
+        best = std::min(best, golden([&](double t) { return (image(set, p, t) - x).norm(); }, p.t[k], p.t[k + 1],
+                                     false, at, 80));
+    }
+    return best;
 }
 
 double distanceToBox(const Piece& p, const Vec3<double>& x) {
@@ -300,14 +316,28 @@ BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance) {
         ++out.pieces;
         const double matchDistance = std::max(tolerance, 1e-2 * a.length);
         const Vec3<double>& mid = a.samples[kPieceSamples / 2];
+        // The boundaries a piece can lie along: the other patches', and its own patch's other
+        // pieces where they coincide with it (a closed skin's seam, e.g. the two ends of a wing
+        // skin that wraps round the trailing edge). Not its own patch's within the 1 % (a thin
+        // strip's two long edges are not a gap).
+        std::vector<const Piece*> others;
+        for (const Piece& b : pieces) {
+            if (&b == &a) continue;
+            if (b.patch != a.patch) {
+                others.push_back(&b);
+            } else if (b.length > tolerance && distanceToBox(b, mid) <= tolerance &&
+                       distanceTo(set, b, mid) <= tolerance) {
+                others.push_back(&b);
+            }
+        }
         int best = -1;
         double bestDistance = std::numeric_limits<double>::infinity();
-        for (const Piece& b : pieces) {
-            if (b.patch == a.patch || distanceToBox(b, mid) > std::min(matchDistance, bestDistance)) continue;
-            const double d = distanceTo(set, b, mid);
+        for (const Piece* b : others) {
+            if (distanceToBox(*b, mid) > std::min(matchDistance, bestDistance)) continue;
+            const double d = distanceTo(set, *b, mid);
             if (d < bestDistance) {
                 bestDistance = d;
-                best = b.patch;
+                best = b->patch;
             }
         }
         if (best < 0 || bestDistance > matchDistance) {
@@ -318,10 +348,17 @@ BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance) {
         // The distance to every other patch's boundary, not only the one found at the midpoint:
         // a long edge may lie along several patches on the other side (a T-junction; the KCS
         // hull's edges measured 29 m against the one patch at their midpoints).
+        // Nearest boxes first: the first distance found then rules out most of the others.
+        std::vector<std::pair<double, const Piece*>> byBox(others.size());
         auto gapAt = [&](const Vec3<double>& x) {
+            for (std::size_t i = 0; i < others.size(); ++i) byBox[i] = {distanceToBox(*others[i], x), others[i]};
+            std::sort(byBox.begin(), byBox.end(),
+                      [](const auto& l, const auto& r) { return l.first < r.first; });
             double d = std::numeric_limits<double>::infinity();
-            for (const Piece& b : pieces)
-                if (b.patch != a.patch && distanceToBox(b, x) < d) d = std::min(d, distanceTo(set, b, x));
+            for (const auto& [box, b] : byBox) {
+                if (box >= d) break;
+                d = std::min(d, distanceTo(set, *b, x));
+            }
             return d;
         };
         // Parts farther from every other boundary than the matching distance (1 % of the piece's

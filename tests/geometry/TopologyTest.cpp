@@ -121,3 +121,50 @@ TEST(Topology, EdgesSplitDifferentlyOnTheTwoSidesAreMeasuredAgainstAllTheirNeigh
     EXPECT_EQ(gaps.partlyFree, 1);
     EXPECT_LT(gaps.maxGap, 1e-14);
 }
+
+namespace {
+
+// The ellipse (cos t, thickness sin t) as a rational quadratic NURBS of `arcs` equal arcs (3 or
+// 4), starting at angle `start`, swept along z from z0 to z1: a thin closed wing skin whose two
+// u ends meet at the seam.
+Patch ellipticTube(int arcs, double start, double thickness, double z0, double z1) {
+    Patch p;
+    p.degreeU = 2;
+    p.degreeV = 1;
+    p.countU = 2 * arcs + 1;
+    p.countV = 2;
+    p.knotsU = {0, 0, 0};
+    for (int a = 1; a < arcs; ++a) p.knotsU.insert(p.knotsU.end(), {double(a), double(a)});
+    p.knotsU.insert(p.knotsU.end(), {double(arcs), double(arcs), double(arcs)});
+    p.knotsV = {0, 0, 1, 1};
+    const double half = M_PI / arcs;  // half an arc's angle
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < p.countU; ++i) {
+            const double angle = start + i * half, r = i % 2 ? 1 / std::cos(half) : 1.0;
+            p.points.insert(p.points.end(), {r * std::cos(angle), thickness * r * std::sin(angle), j ? z1 : z0});
+            p.weights.push_back(i % 2 ? std::cos(half) : 1.0);
+        }
+    return p;
+}
+
+}  // namespace
+
+TEST(Topology, ASeamAndAThinTrailingEdgeAreNotGaps) {
+    // One closed skin: its two u ends coincide (the seam) and pair with each other, while its
+    // circular ends are free.
+    PatchSet set;
+    set.patches = {ellipticTube(4, 0.0, 0.01, 0, 1)};
+    BoundaryGaps gaps = boundaryGaps(set);
+    EXPECT_EQ(gaps.pieces, 4);
+    EXPECT_EQ(gaps.matched, 2);
+    EXPECT_EQ(gaps.free, 2);
+    EXPECT_LT(gaps.maxGap, 1e-12);
+    // A second skin on top, the same thin ellipse parameterized otherwise (three arcs from
+    // another angle): near the trailing edge, the nearest of a closed edge's samples can lie on
+    // the other surface, one thickness away; the distance is still measured to the right one.
+    set.patches.push_back(ellipticTube(3, 0.3, 0.01, 1, 2));
+    gaps = boundaryGaps(set);
+    EXPECT_EQ(gaps.matched, 6);  // two seams, the shared ellipse on both sides
+    EXPECT_EQ(gaps.free, 2);
+    EXPECT_LT(gaps.maxGap, 1e-10);
+}
