@@ -678,7 +678,18 @@ PatchSet readIges(const std::string& path, ReadReport* report) {
         }
         rep.items.push_back(std::move(item));
     }
-    if (set.patches.empty()) throw InputError("IGES file " + quoted(path) + " has no surfaces");
+    if (set.patches.empty()) {
+        // Say what the file has instead (a curves-only airfoil file, say), and why any surface in
+        // it was not read.
+        std::string found;
+        for (const ReportRow& row : summarize(rep)) {
+            found += (found.empty() ? "" : "; ") + std::to_string(row.entities.size()) + " " + row.kind + " (" +
+                     std::to_string(row.type) + ", DE " + listEntities(row.entities, 4) + ")";
+            if (!row.reason.empty()) found += ": " + row.reason;
+        }
+        throw InputError("IGES file " + quoted(path) + " has no surfaces" +
+                         (found.empty() ? std::string() : ": its top-level entities are " + found));
+    }
     if (set.trimmedCount() == 0) set.trims.clear();
     geometry::validate(set);
     return set;

@@ -567,6 +567,8 @@ TEST(Iges, FileWithoutSurfacesIsAnInputError) {
     const std::string m = messageOf<InputError>([&] { readIges(path); });
     EXPECT_NE(m.find(path), std::string::npos) << m;
     EXPECT_NE(m.find("no surfaces"), std::string::npos) << m;
+    // ... and what it has instead (a point, type 116, directory entry 1), with the reason.
+    EXPECT_NE(m.find("its top-level entities are 1 point (116, DE 1)"), std::string::npos) << m;
 }
 
 /// Replaces parameter `index` (1-based) of the parameter section, keeping the columns.
