@@ -112,7 +112,7 @@ TEST(FlowFiles, RestartForAnotherGridOrDamagedIsRejectedWithTheReason) {
 
 TEST(FlowFiles, ResidualCsvHasOneRowPerIterationContinuingTheCount) {
     std::vector<flow::FlowIteration> h;
-    for (int i = 1; i <= 3; ++i) h.push_back({i, 1.0 / i, 0.1 / i, 10.0 * i, 5 * i, 0.01, 1.0, false, 0.5 * i, {}});
+    for (int i = 1; i <= 3; ++i) h.push_back({i, 1.0 / i, 0.1 / i, 10.0 * i, 5 * i, 0.01, 0.05, 1.0, false, 0.5 * i, {}});
     const std::string path = outPath("residual.csv");
     io::writeResidualCsv(path, h, 10);
     std::istringstream in(slurp(path));
