@@ -242,10 +242,11 @@ File parse(const std::string& text, const std::string& path) {
         if (section == 'P') {
             // The directory entry pointer is in columns 66-72 and column 65 is blank. Some writers
             // (pyGeo's, for one) fill all 65 columns with data, the record's last delimiter in
-            // column 65: a character there is data. A pointer written from column 65 on (eight
-            // columns, 65-72) is read too, when 66-72 alone hold no number.
-            bool ok = true;
-            int de = fieldInt(line.substr(kDataColumns + 1, 7), 0, ok);  // columns 66-72
+            // column 65: a character there other than a digit is data. A digit there belongs to a
+            // pointer written in columns 65-72 (left-aligned, or of eight digits), read as before.
+            const bool digit65 = std::isdigit(static_cast<unsigned char>(line[kDataColumns])) != 0;
+            bool ok = !digit65;
+            int de = digit65 ? 0 : fieldInt(line.substr(kDataColumns + 1, 7), 0, ok);  // columns 66-72
             std::size_t columns = kDataColumns;
             if (ok && de > 0) {
                 if (line[kDataColumns] != ' ') {

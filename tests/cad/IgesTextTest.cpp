@@ -437,6 +437,21 @@ TEST(IgesText, ParameterDataInColumn65IsReadAsData) {
     for (const std::string& n : wideReport.notes) noted = noted || n.find("column 65") != std::string::npos;
     EXPECT_TRUE(noted);
     for (const std::string& n : standardReport.notes) EXPECT_EQ(n.find("column 65"), std::string::npos) << n;
+    // A pointer written left-aligned from column 65 on (not the standard's right-aligned field)
+    // is still the pointer, not data: a digit in column 65 is never data.
+    std::string left = slurp(standardPath);
+    for (std::size_t at = 0; at + 80 <= left.size(); at = left.find('\n', at) + 1) {
+        if (left[at + 72] != 'P') continue;
+        const int de = std::stoi(left.substr(at + 64, 8));
+        char field[16];
+        std::snprintf(field, sizeof field, "%-8d", de);
+        left.replace(at + 64, 8, field);
+    }
+    const std::string leftPath = outputPath("hand_pointer_left.igs");
+    writeText(leftPath, left);
+    const geometry::PatchSet l = readIges(leftPath);
+    ASSERT_EQ(l.size(), a.size());
+    for (int k = 0; k < a.size(); ++k) EXPECT_EQ(a.patches[k].points, l.patches[k].points) << k;
 
     // OpenCASCADE reads columns 1-64 only: a surface it would convert is not read from such a
     // file (its parameters would shift), with a warning that says why, instead of a wrong shape.
