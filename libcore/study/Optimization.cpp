@@ -439,7 +439,9 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (volumeConstraint && !(summary.startVolume > 0)) {
         // The volume is 1/3 of the flux of x out through the patches, the body closed by the
         // symmetry plane Y = 0: a shape whose patches face inward (as a CAD file may write them)
-        // has a negative one, and a bound on it would keep the body from growing, not shrinking.
+        // has a negative one. The constraint is the volume's ratio to the start's, so a bound
+        // given as a number would then be met by every such shape (the ratio's sign flips), and
+        // the history's volumes would read negative: the user orients the patches instead.
         throw InputError("constraints.min_volume: the start shape's enclosed volume is " + format("%.6g", summary.startVolume) +
                          " (1/3 of the flux of x through the patches, the body closed by the symmetry plane Y = 0): "
                          "its patches' normals point into the body, or it is not a half-body closed by Y = 0; "

@@ -116,9 +116,9 @@ TEST(Optimization, AFailedFlowsGrowingModeIsRecordedInTheHistory) {
 // optimizer's scaled variables (checked against differences of the model's functions).
 TEST(Optimization, AMinimumVolumeOnPatchesFacingInwardIsRefusedWithTheReason) {
     // CAD files orient patches either way. The half-sphere with every patch's u direction
-    // reversed (its normals into the body) has the enclosed volume -2 pi / 3, and a bound "at
-    // least the start's volume" on it would keep the body from growing instead of shrinking: the
-    // run stops before its first evaluation and says why.
+    // reversed (its normals into the body) has the enclosed volume -2 pi / 3; the constraint is
+    // the volume's ratio to the start's, so a bound given as a number would be met by every such
+    // shape: the run stops before its first evaluation and says why.
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/inward_volume";
     std::filesystem::remove_all(dir);
     io::CaseFile c = small("sphere_to_bwb.json");
