@@ -161,6 +161,18 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
     std::snprintf(buf, sizeof buf, "bounding box     [%.6g, %.6g] x [%.6g, %.6g] x [%.6g, %.6g]%s\n", box.min[0], box.max[0], box.min[1],
                   box.max[1], box.min[2], box.max[2], trimmed ? " (trimmed surfaces)" : "");
     t += buf;
+    // Where the largest boundary gap is: the patch (counted from 0 in the JSON, as items' patches
+    // are) and the point.
+    auto gapLocation = [&](const geometry::BoundaryGaps& g) {
+        return nlohmann::ordered_json{{"patch", g.worstPatch},
+                                      {"name", set.names[static_cast<std::size_t>(g.worstPatch)]},
+                                      {"point", g.worstPoint}};
+    };
+    auto gapPlace = [&](const geometry::BoundaryGaps& g) {
+        char at[96];
+        std::snprintf(at, sizeof at, " (%.6g, %.6g, %.6g)", g.worstPoint[0], g.worstPoint[1], g.worstPoint[2]);
+        return set.describe(g.worstPatch) + at;
+    };
     if (trimmed == 0) {
         const geometry::Adjacency adj = geometry::buildAdjacency(set, 1e-6);
         int identical = 0;
@@ -190,10 +202,9 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
                           gaps.pieces, gaps.matched, gaps.partlyFree, gaps.free);
             t += buf;
             if (gaps.worstPatch >= 0) {
-                const auto& w = gaps.worstPoint;
-                j["max_boundary_gap_at"] = {{"patch", gaps.worstPatch}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
-                std::snprintf(buf, sizeof buf, "largest gap      %.3e along the boundaries, at %s (%.6g, %.6g, %.6g)\n",
-                              gaps.maxGap, set.describe(gaps.worstPatch).c_str(), w[0], w[1], w[2]);
+                j["max_boundary_gap_at"] = gapLocation(gaps);
+                std::snprintf(buf, sizeof buf, "largest gap      %.3e along the boundaries, at %s\n", gaps.maxGap,
+                              gapPlace(gaps).c_str());
                 t += buf;
             }
         }
@@ -211,11 +222,8 @@ GeometryInfo describeGeometry(const std::string& path, const geometry::PatchSet&
         std::snprintf(buf, sizeof buf, "largest edge gap %.3e (along the trimmed boundaries)", gaps.maxGap);
         t += buf;
         if (gaps.worstPatch >= 0 && gaps.maxGap > 0) {
-            const auto& w = gaps.worstPoint;
-            j["max_edge_gap_at"] = {{"patch", gaps.worstPatch}, {"name", set.names[static_cast<std::size_t>(gaps.worstPatch)]}, {"point", w}};
-            std::snprintf(buf, sizeof buf, " at %s (%.6g, %.6g, %.6g)", set.describe(gaps.worstPatch).c_str(), w[0],
-                          w[1], w[2]);
-            t += buf;
+            j["max_edge_gap_at"] = gapLocation(gaps);
+            t += " at " + gapPlace(gaps);
         }
         t += "\n";
     }

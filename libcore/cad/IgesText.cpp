@@ -171,10 +171,11 @@ File parse(const std::string& text, const std::string& path) {
     f.path = path;
     std::string global;
     std::vector<std::string> directory;
-    std::map<int, std::string> data;  // directory entry -> its parameter data (columns 1-64)
+    std::map<int, std::string> data;  // directory entry -> its parameter data (columns 1-64, or 1-65)
     struct Lines {
-        int first = 0, last = 0, count = 0;  // positions in the parameter section, 1-based
-        std::vector<std::size_t> starts;     // where each line's data begins in the entity's
+        int first = 0, last = 0;           // positions in the parameter section, 1-based
+        std::vector<std::size_t> starts;   // where each line's data begins in the entity's data
+        int count() const { return static_cast<int>(starts.size()); }
     };
     std::map<int, Lines> dataLines;  // directory entry -> the parameter lines that name it
     int parameterLine = 0;
@@ -265,7 +266,7 @@ File parse(const std::string& text, const std::string& path) {
             l.starts.push_back(data[de].size());
             data[de].append(line, 0, columns);
             ++parameterLine;
-            if (l.count++ == 0) l.first = parameterLine;
+            if (l.count() == 1) l.first = parameterLine;
             l.last = parameterLine;
         }
     }
@@ -353,12 +354,12 @@ File parse(const std::string& text, const std::string& path) {
             bool ok = true;
             const int pointer = fieldInt(directory[static_cast<std::size_t>(e.de - 1)], 1, ok);
             const int count = fieldInt(directory[static_cast<std::size_t>(e.de)], 3, ok);
-            if (!ok || pointer != l.first || count != l.count || l.last - l.first + 1 != l.count)
+            if (!ok || pointer != l.first || count != l.count() || l.last - l.first + 1 != l.count())
                 failEntity(f, e,
                            "its directory entry puts its parameter data on " +
                                std::to_string(count) + " line(s) from parameter line " +
                                std::to_string(pointer) + ", but the lines that name it are " +
-                               std::to_string(l.count) + " from line " +
+                               std::to_string(l.count()) + " from line " +
                                std::to_string(l.first) + " to " + std::to_string(l.last));
         }
         const std::vector<Token> tokens = tokenize(it->second, pd, rd);

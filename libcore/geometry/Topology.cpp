@@ -364,13 +364,12 @@ BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance) {
         // Parts farther from every other boundary than the matching distance (1 % of the piece's
         // length) are not a gap but free boundary (an edge that runs on past the patches along
         // it, e.g. onto the symmetry plane): left out of the gap, the piece counted partly free.
-        const double capture = matchDistance;
         double gap = 0;
         std::size_t worst = 0;
         bool partly = false;
         for (std::size_t k = 0; k < a.samples.size(); ++k) {
             const double d = gapAt(a.samples[k]);
-            if (d > capture) {
+            if (d > matchDistance) {
                 partly = true;
             } else if (d > gap) {
                 gap = d;
@@ -383,7 +382,7 @@ BoundaryGaps boundaryGaps(const PatchSet& set, double tolerance) {
             double at = 0;
             const double lo = a.t[worst == 0 ? 0 : worst - 1], hi = a.t[std::min(worst + 1, a.t.size() - 1)];
             const double refined = golden([&](double t) { return gapAt(image(set, a, t)); }, lo, hi, true, at);
-            if (refined > gap && refined <= capture) {
+            if (refined > gap && refined <= matchDistance) {
                 gap = refined;
                 where = image(set, a, at);
             }
