@@ -390,6 +390,9 @@ void OptimizationPanel::setCase(const io::CaseFile& c, const QString& historyPat
     QStringList linear;
     if (c.symmetry) linear << tr("symmetric across Y = 0");
     if (c.stationGap) linear << tr("adjacent stations at least %1 apart").arg(*c.stationGap);
+    if (c.stationSecondDifference) {
+        linear << tr("lattice bent by at most %1 between three stations").arg(*c.stationSecondDifference);
+    }
     linear_->setText(linear.isEmpty() ? tr("none") : linear.join(QStringLiteral("; ")));
     history_->setText(historyPath.isEmpty()
                           ? tr("History: none yet (save the project: it is kept beside it).")

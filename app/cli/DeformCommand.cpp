@@ -142,6 +142,20 @@ int runDeform(const std::string& casePath, bool json, bool list) {
             constraints["station_gap"] = *c.stationGap;
             constraints["station_gap_violations"] = violated;
         }
+        {
+            // Reported always: how far the design bends the lattice across adjacent stations.
+            const auto [largest, where] = model.largestStationSecondDifference(v);
+            if (!where.empty()) {
+                progress(false, "largest second difference of the lattice across stations %.4g at %s", largest,
+                         where.c_str());
+                constraints["largest_station_second_difference"] = largest;
+                constraints["largest_station_second_difference_at"] = where;
+            }
+            if (c.stationSecondDifference) {
+                constraints["station_second_difference"] = *c.stationSecondDifference;
+                constraints["station_second_difference_ok"] = largest <= *c.stationSecondDifference * (1 + 1e-12);
+            }
+        }
         if (c.minVolume) {
             const double minV = std::isnan(*c.minVolume) ? volume0 : *c.minVolume;
             constraints["min_volume"] = minV;

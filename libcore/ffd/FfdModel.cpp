@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <limits>
 
 #include "geometry/EnclosedVolume.h"
 
@@ -195,6 +196,85 @@ std::vector<LinearConstraint> FfdModel::stationGapConstraints(double minGap) con
         out.push_back(std::move(c));
     }
     return out;
+}
+
+namespace {
+
+// Whether r lies on the segment between a and +-b: then |a . d| <= M and |b . d| <= M imply
+// |r . d| <= M, and the row r adds nothing to the bound.
+bool onSegment(const Eigen::VectorXd& r, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    for (double sign : {1.0, -1.0}) {
+        const Eigen::VectorXd e = sign * b - a;
+        const double ee = e.squaredNorm();
+        if (ee == 0) continue;
+        const double t = (r - a).dot(e) / ee;
+        if (t >= -1e-12 && t <= 1 + 1e-12 && (r - a - t * e).norm() <= 1e-12 * (1 + r.norm())) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+std::vector<LinearConstraint> FfdModel::stationSecondDifferenceConstraints(double maxDifference) const {
+    const auto& st = design_->stations();
+    const int n = design_->size();
+    const std::vector<double> baseline = design_->baselineValues();
+    const Eigen::Map<const Eigen::VectorXd> vb(baseline.data(), n);
+    const char* axes = "xyz";
+    std::vector<LinearConstraint> out;
+    for (std::size_t s = 1; s + 1 < st.size(); ++s) {
+        const Station &a = st[s - 1], &b = st[s], &c = st[s + 1];
+        if (a.group != b.group || b.group != c.group) continue;
+        // Stations of a group walk one lattice direction in the same order over the other two,
+        // so the m-th point of each lies on one lattice line across the stations.
+        const Eigen::SparseMatrix<double, Eigen::RowMajor> J = design_->jacobian(b.lattice);
+        for (int ax = 0; ax < 3; ++ax) {
+            std::vector<Eigen::VectorXd> rows;
+            std::vector<int> points;
+            for (std::size_t m = 0; m < b.points.size(); ++m) {
+                Eigen::VectorXd row = J.row(3 * a.points[m] + ax).transpose();
+                row -= 2.0 * J.row(3 * b.points[m] + ax).transpose();
+                row += J.row(3 * c.points[m] + ax).transpose();
+                if (row.cwiseAbs().maxCoeff() < 1e-14) continue;
+                rows.push_back(std::move(row));
+                points.push_back(b.points[m]);
+            }
+            // Leave out the rows implied by two others (a repeat, or a point between two whose
+            // rows differ only by its coordinate, as a taper's do): kept rows imply them still.
+            std::vector<bool> kept(rows.size(), true);
+            for (std::size_t m = rows.size(); m-- > 0;) {  // the later ones go first: names keep low indices
+                for (std::size_t i = 0; i < rows.size() && kept[m]; ++i) {
+                    for (std::size_t j = i; j < rows.size() && kept[m]; ++j) {
+                        if (i == m || j == m || !kept[i] || !kept[j]) continue;
+                        if (onSegment(rows[m], rows[i], rows[j])) kept[m] = false;
+                    }
+                }
+            }
+            for (std::size_t m = 0; m < rows.size(); ++m) {
+                if (!kept[m]) continue;
+                LinearConstraint k;
+                k.name = "station_second_difference[" + std::to_string(b.ordinal) + ", point " +
+                         std::to_string(points[m]) + ", " + axes[ax] + "]";
+                // The displacement's second difference row . (v - vb) lies in [-max, max].
+                const double shift = rows[m].dot(vb);
+                k.row.assign(rows[m].data(), rows[m].data() + n);
+                k.lower = shift - maxDifference;
+                k.upper = shift + maxDifference;
+                out.push_back(std::move(k));
+            }
+        }
+    }
+    return out;
+}
+
+std::pair<double, std::string> FfdModel::largestStationSecondDifference(std::span<const double> v) const {
+    std::pair<double, std::string> worst{0.0, ""};
+    for (const LinearConstraint& k : stationSecondDifferenceConstraints(0.0)) {
+        double value = -k.lower;  // lower = shift at a zero bound
+        for (std::size_t i = 0; i < v.size(); ++i) value += k.row[i] * v[i];
+        if (std::abs(value) > worst.first) worst = {std::abs(value), k.name};
+    }
+    return worst;
 }
 
 template std::vector<double> FfdModel::uniquePoints(std::span<const double>) const;

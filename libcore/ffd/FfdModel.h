@@ -5,6 +5,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ffd/DesignVariables.h"
@@ -71,6 +72,12 @@ public:
     /// Adjacent stations of each group keep at least `minGap` between their centroids along the
     /// station direction.
     std::vector<LinearConstraint> stationGapConstraints(double minGap) const;
+    /// Three adjacent stations of a group bend each lattice point's displacement by at most
+    /// `maxDifference`: |d(s-1) - 2 d(s) + d(s+1)| <= maxDifference per point of the station and
+    /// per world axis (d = B(v) - B(baseline), case units). Rows that vanish or repeat are left out.
+    std::vector<LinearConstraint> stationSecondDifferenceConstraints(double maxDifference) const;
+    /// The largest |d(s-1) - 2 d(s) + d(s+1)| over the same rows at v, and the row's name.
+    std::pair<double, std::string> largestStationSecondDifference(std::span<const double> v) const;
 
 private:
     geometry::PatchSet baseline_;

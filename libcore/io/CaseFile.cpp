@@ -416,11 +416,17 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     if (doc.contains("constraints")) {
         const json& k = doc["constraints"];
-        ctx.keys(k, "constraints", {"symmetry", "station_gap", "min_volume", "thickness", "min_lattice_jacobian"});
+        ctx.keys(k, "constraints", {"symmetry", "station_gap", "station_second_difference", "min_volume", "thickness",
+                                        "min_lattice_jacobian"});
         if (k.contains("symmetry")) c.symmetry = ctx.boolean(k["symmetry"], "constraints.symmetry");
         if (k.contains("station_gap")) {
             c.stationGap = ctx.number(k["station_gap"], "constraints.station_gap");
             if (*c.stationGap < 0) ctx.fail("constraints.station_gap", "must be >= 0");
+        }
+        if (k.contains("station_second_difference")) {
+            const std::string key = "constraints.station_second_difference";
+            c.stationSecondDifference = ctx.number(k["station_second_difference"], key);
+            if (!(*c.stationSecondDifference > 0)) ctx.fail(key, "must be > 0 (a length in the case's units)");
         }
         if (k.contains("min_volume")) {
             const json& mv = k["min_volume"];

@@ -126,6 +126,8 @@ struct CaseFile {
     bool allowOutside = false;
     bool symmetry = true;                      // report/enforce symmetry across Y = 0
     std::optional<double> stationGap;          // minimum gap between adjacent stations
+    std::optional<double> stationSecondDifference;  // bound on |d(s-1) - 2 d(s) + d(s+1)| of
+                                                    // each lattice point's displacement
     std::optional<double> minVolume;           // absolute; NaN means "initial volume"
     ThicknessCase thickness;                   // minimum thickness at planform points
     double minLatticeJacobian = 0;             // smooth bound of det J / det J baseline over the

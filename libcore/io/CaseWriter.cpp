@@ -154,6 +154,7 @@ Json caseJson(const CaseFile& c) {
     Json k;
     k["symmetry"] = c.symmetry;
     if (c.stationGap) k["station_gap"] = *c.stationGap;
+    if (c.stationSecondDifference) k["station_second_difference"] = *c.stationSecondDifference;
     if (c.minVolume) {
         if (std::isnan(*c.minVolume))
             k["min_volume"] = "initial";

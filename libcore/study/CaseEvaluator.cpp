@@ -182,6 +182,11 @@ std::vector<ffd::LinearConstraint> CaseEvaluator::linearConstraints() const {
     if (case_.stationGap) {
         for (auto& g : model_->stationGapConstraints(*case_.stationGap)) out.push_back(std::move(g));
     }
+    if (case_.stationSecondDifference) {
+        for (auto& g : model_->stationSecondDifferenceConstraints(*case_.stationSecondDifference)) {
+            out.push_back(std::move(g));
+        }
+    }
     return out;
 }
 

@@ -250,7 +250,8 @@ public:
     const mesh::MultiBlockMesh& baselineMesh();
     /// The baseline grid x = N b, one block each (generated on first use, then kept).
     const std::vector<mesh::StructuredGrid>& baselineGrids();
-    /// The case's linear constraints on the design (constraints.symmetry, constraints.station_gap),
+    /// The case's linear constraints on the design (constraints.symmetry, constraints.station_gap,
+    /// constraints.station_second_difference),
     /// as the optimizer enforces them: lower <= row . v <= upper. Empty without a model.
     std::vector<ffd::LinearConstraint> linearConstraints() const;
 

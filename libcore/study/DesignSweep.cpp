@@ -74,7 +74,7 @@ std::vector<double> RandomDesigns::next() {
         ++linearRejections_;
     }
     throw CaseError("random designs: no draw in 10^6 satisfied the case's linear constraints (constraints.station_gap, "
-                    "constraints.symmetry) at spread " + std::to_string(spread_) + "; lower the spread");
+                    "constraints.station_second_difference, constraints.symmetry) at spread " + std::to_string(spread_) + "; lower the spread");
 }
 
 ValidDraw drawValidDesign(CaseEvaluator& ev, RandomDesigns& designs, int maxDraws, const std::atomic<bool>* cancel) {

@@ -291,7 +291,7 @@ TEST(Cli, DeformTheSampleCaseWritesExactGeometryAndVtk) {
         "design_variables": {"stations": [{"lattice": "body", "direction": 1, "bits": ["001","011","011","011","011","011"],
                                            "translation_bound": 3}]},
         "values": {"body.S5.ty": 1.5, "body.S4.ty": 0.8, "body.S5.taperx": 0.6},
-        "constraints": {"station_gap": 0.05, "min_volume": "initial"},
+        "constraints": {"station_gap": 0.05, "station_second_difference": 0.5, "min_volume": "initial"},
         "output": {"geometry": "cli_deformed/bwb.igs", "vtk": "cli_deformed/bwb.vtm"})");
     const Result r = run("deform '" + c + "' --json");
     ASSERT_EQ(r.code, 0) << r.err;
@@ -305,6 +305,11 @@ TEST(Cli, DeformTheSampleCaseWritesExactGeometryAndVtk) {
     EXPECT_GT(j["volume"].get<double>(), j["initial_volume"].get<double>());
     EXPECT_EQ(j["constraints"]["symmetry_max_offset"], 0.0);
     EXPECT_EQ(j["constraints"]["station_gap_violations"], 0);
+    // Stations 2, 3, 4 move by 0, 0 and 0.8 in y: the lattice bends by 0.8 at station 3.
+    EXPECT_NEAR(j["constraints"]["largest_station_second_difference"].get<double>(), 0.8, 1e-12);
+    EXPECT_NE(j["constraints"]["largest_station_second_difference_at"].get<std::string>().find("[3, point 18, y]"),
+              std::string::npos);
+    EXPECT_FALSE(j["constraints"]["station_second_difference_ok"].get<bool>());
     // The planform: the sphere's half-disk, then the tip station moved 1.5 outboard.
     EXPECT_NEAR(j["initial_planform"]["half_span"].get<double>(), 1.0, 1e-4);
     EXPECT_NEAR(j["initial_planform"]["projected_area"].get<double>(), M_PI / 2, 1e-3);

@@ -168,6 +168,51 @@ TEST(FfdModel, StationGapConstraintsAreExactAndDetectOverlap) {
     EXPECT_GT(value(gaps[0], v), gaps[0].lower);
 }
 
+TEST(FfdModel, StationSecondDifferencesBoundAZigzagAndLeaveAStraightChangeFree) {
+    const FfdModel m = paperModel();
+    const auto rows = m.stationSecondDifferenceConstraints(0.25);
+    // 4 middle stations x 12 lattice points x 3 axes, less the rows others imply: a station's
+    // points move together in y (1 row); in x by its translation and taper, so the two ends of
+    // the chord bound the rest (2 rows); in z each point has its own section scaling (12 rows).
+    EXPECT_EQ(rows.size(), 4u * 15u);
+    const auto v0 = m.design().baselineValues();
+    const int n = m.design().size();
+    auto value = [&](const LinearConstraint& c, const std::vector<double>& v) {
+        return Eigen::Map<const Eigen::VectorXd>(c.row.data(), n).dot(Eigen::Map<const Eigen::VectorXd>(v.data(), n));
+    };
+    auto violated = [&](const std::vector<double>& v) {
+        int count = 0;
+        for (const auto& c : rows) count += value(c, v) < c.lower - 1e-12 || value(c, v) > c.upper + 1e-12;
+        return count;
+    };
+    EXPECT_EQ(violated(v0), 0);
+    EXPECT_DOUBLE_EQ(m.largestStationSecondDifference(v0).first, 0.0);
+    // A linear sweep and a linear span stretch bend nothing, however large.
+    std::vector<double> v = v0;
+    for (int s = 1; s < 6; ++s) {
+        v[m.design().find("L0.S" + std::to_string(s) + ".tx")] = 0.5 * s;
+        v[m.design().find("L0.S" + std::to_string(s) + ".ty")] = 0.4 * s;
+    }
+    EXPECT_EQ(violated(v), 0);
+    EXPECT_NEAR(m.largestStationSecondDifference(v).first, 0.0, 1e-14);
+    // One station pushed 0.2 aft of a straight sweep bends three triples: 0.2, -0.4, 0.2.
+    v[m.design().find("L0.S3.tx")] += 0.2;
+    const auto [largest, where] = m.largestStationSecondDifference(v);
+    EXPECT_NEAR(largest, 0.4, 1e-14);
+    EXPECT_NE(where.find("station_second_difference[3, "), std::string::npos) << where;
+    EXPECT_NE(where.find(", x]"), std::string::npos) << where;
+    EXPECT_EQ(violated(v), 2);  // only the middle triple exceeds 0.25 (at both ends of the chord)
+    v[m.design().find("L0.S3.tx")] += 0.2;
+    EXPECT_EQ(violated(v), 6);
+    // Section scalings count too: one point's z scaling at a middle station.
+    std::vector<double> w = v0;
+    const int sz = m.design().find("L0.S2.P12.sz");
+    ASSERT_GE(sz, 0);
+    w[sz] = 2.0;
+    EXPECT_GT(m.largestStationSecondDifference(w).first, 0.25);
+    EXPECT_GT(violated(w), 0);
+}
+
 TEST(FfdModel, BlendedWingDeformationStaysInjective) {
     // Stretch the span and flatten the sections, as in Figure 1 of the paper.
     FfdModel m = paperModel();

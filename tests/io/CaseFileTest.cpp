@@ -69,6 +69,7 @@ TEST(CaseFile, BadKeysTypesAndValuesNameTheKey) {
     expectCaseError(R"("lattices": [{"counts": [6, 6]}])", "lattices[0].counts: expected 3 integers");
     expectCaseError(R"("lattices": [{"counts": [6, 6, 2], "degrees": [3, 3, 2]}])", "lattices[0].counts[2]");
     expectCaseError(R"("lattices": [{"padding": [0.1, -1, 0]}])", "lattices[0].padding[1]: must be >= 0");
+    expectCaseError(R"("constraints": {"station_second_difference": 0})", "constraints.station_second_difference: must be > 0");
     expectCaseError(R"("lattices": [{"name": "a"}, {"name": "a"}])", "duplicate lattice name");
     expectCaseError(R"("lattices": [{"axes": [[1, 0, 0], [1, 0, 0], [0, 0, 1]]}])", "lattices[0].axes: must be orthonormal");
     expectCaseError(R"("lattices": [{"name": "a"}], "design_variables": {"stations": [{"lattice": "b"}]})",

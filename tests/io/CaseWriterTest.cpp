@@ -75,6 +75,7 @@ void expectSameCase(const io::CaseFile& a, const io::CaseFile& b) {
     EXPECT_EQ(a.allowOutside, b.allowOutside);
     EXPECT_EQ(a.symmetry, b.symmetry);
     EXPECT_EQ(a.stationGap, b.stationGap);
+    EXPECT_EQ(a.stationSecondDifference, b.stationSecondDifference);
     EXPECT_EQ(a.thickness.stations, b.thickness.stations);
     EXPECT_EQ(a.thickness.chordFractions, b.thickness.chordFractions);
     EXPECT_EQ(a.thickness.points, b.thickness.points);
@@ -180,7 +181,7 @@ const char* kEveryKey = R"({
     {"lattice": "inboard", "index": [2, 3, 1], "delta": [0, 0, -0.05]}
   ],
   "embedding": {"tolerance": 1e-10, "max_iterations": 77, "allow_outside": true},
-  "constraints": {"symmetry": false, "station_gap": 0.02, "min_volume": 1.75,
+  "constraints": {"symmetry": false, "station_gap": 0.02, "station_second_difference": 0.3, "min_volume": 1.75,
                   "thickness": {"stations": [0, 0.5], "chord_fractions": [0.1, 0.30000000000000004], "points": [[0.2, 0.25]],
                                 "min_ratio": 0.8},
                   "min_lattice_jacobian": 0.15},
