@@ -313,14 +313,24 @@ GmresReport gmresWith(long n, const LinearMap& A, const LinearMap& M, const doub
     bool fresh = true;      // start the next cycle from the true residual
     bool useDeflation = deflation > 0;
     bool deflated = false;  // a deflated restart happened since the last true residual
+    // A zero initial guess (every Newton step's) needs no product for its residual: r = b. On
+    // the flow's exact systems a product is a complex residual evaluation, as dear as a GMRES
+    // iteration's.
+    bool zeroGuess = std::all_of(x, x + n, [](double v) { return v == 0.0; });
     while (rep.iterations < o.maxIterations) {
         if (fresh) {
             // r = b - A x
             double* r = w;  // a float basis: r in the double work vector, stored scaled in V[0]
             if constexpr (kDouble) r = V[0];
-            A(x, r);
+            if (zeroGuess) {
 #pragma omp parallel for schedule(static)
-            for (long i = 0; i < n; ++i) r[i] = b[i] - r[i];
+                for (long i = 0; i < n; ++i) r[i] = b[i];
+                zeroGuess = false;
+            } else {
+                A(x, r);
+#pragma omp parallel for schedule(static)
+                for (long i = 0; i < n; ++i) r[i] = b[i] - r[i];
+            }
             const double beta = std::sqrt(dot(n, r, r, partial));
             rep.relativeResidual = beta / bnorm;
             if (rep.relativeResidual <= o.tolerance) {

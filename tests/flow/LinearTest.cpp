@@ -322,6 +322,40 @@ TEST(Gmres, PreconditionedByIluSolvesAGridSystem) {
     EXPECT_EQ(x2, x);
 }
 
+// Every Newton step starts GMRES from dq = 0, where the residual is b: no product is spent on
+// A 0 (on the flow's exact systems a product is a complex residual evaluation). A restart and a
+// nonzero initial guess still use the true residual b - A x.
+TEST(Gmres, AZeroInitialGuessSpendsNoProductOnItsResidual) {
+    const BlockSparseMatrix A = gridMatrix(30, 20, 7);
+    const long n = kBlock * A.rows;
+    const std::vector<double> b = randomVector(n, 8);
+    BlockIlu ilu;
+    ASSERT_TRUE(ilu.factor(A, 1));
+    int products = 0, zeroInputs = 0;
+    const LinearMap Am = [&](const double* in, double* out) {
+        ++products;
+        zeroInputs += std::all_of(in, in + n, [](double v) { return v == 0.0; });
+        A.mult(in, out);
+    };
+    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    std::vector<double> x(n, 0.0);
+    const GmresReport r = gmres(n, Am, M, b.data(), x.data(), {2, 400, 1e-12});
+    EXPECT_TRUE(r.converged);
+    EXPECT_GT(r.iterations, 2);  // restarted at least once
+    EXPECT_EQ(zeroInputs, 0);
+    EXPECT_LT(maxError(A, x, b), 1e-8);
+    // One product per iteration and one per restart's true residual (GMRES(2): a restart after
+    // every second iteration).
+    const int restarts = (r.iterations + 1) / 2 - 1;
+    EXPECT_EQ(products, r.iterations + restarts);
+    // From the converged x as the guess, the true residual is checked with a product and nothing
+    // else is done.
+    products = 0;
+    const GmresReport again = gmres(n, Am, M, b.data(), x.data(), {8, 400, 1e-8});
+    EXPECT_EQ(again.iterations, 0);
+    EXPECT_EQ(products, 1);
+}
+
 // A float basis: the same systems to the same tight tolerance (GMRES checks the true residual
 // before it reports convergence and restarts from it in double, so the basis's round-off does
 // not limit the accuracy), with and without deflation: an ILU-preconditioned grid system (a few
