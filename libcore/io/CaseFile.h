@@ -93,6 +93,8 @@ struct OptimizationCase {
     double alphaLower = -5, alphaUpper = 10;  // degrees
     double minCornerRatio = 0.01;      // every grid cell corner keeps this fraction of its baseline
     double maxWallBend = 0;            // degrees the wall may turn from grid node to node (0: free)
+    double maxEntropy = 0;             // a converged flow with a larger |s - s_inf| is a failed
+                                       // evaluation (0: any)
                                        // volume (0: no grid-validity constraint)
     bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
     double targetCL = 0;

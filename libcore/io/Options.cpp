@@ -365,6 +365,13 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "the angle the wall turns from one grid node to the next is kept below this, with its exact "
                             "gradient, so the optimizer does not fold the wall into bends the grid cannot resolve (the "
                             "flow there is not resolved and tends to stall; docs/validation.md); 0: no such constraint"));
+        o.push_back(real<O>("max_entropy", "", 0, true, 100, false, [](O& c) -> double& { return c.maxEntropy; },
+                            "flow credibility: an evaluation whose flow converges with a largest entropy error "
+                            "|s - s_inf| above this is reported to the optimizer as failed (status flow-unresolved), "
+                            "so the step is cut: a smooth body at subsonic free-stream Mach generates entropy only "
+                            "where the grid does not resolve the flow or the solution separated (a steady state the "
+                            "continuation in the dissipation can land on); its state is not used for warm starts; 0: "
+                            "any converged flow counts"));
         o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
                                "keep CL equal to target_cl (with its exact gradient)"));
         o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },

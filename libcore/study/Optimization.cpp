@@ -661,7 +661,9 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         const std::vector<double> v = design(u);
         r.volume = model.volume(v);
         r.planform = planformOf(e->shape);
-        r.status = e->ok() ? "ok" : evaluationStatusName(e->status);
+        // A converged flow whose entropy error is beyond the case's bound is no answer to climb on.
+        const bool unresolved = e->ok() && oc.maxEntropy > 0 && std::abs(e->flow->maxEntropy.value) > oc.maxEntropy;
+        r.status = unresolved ? "flow-unresolved" : e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
         if (e->flow && e->flow->modesChecked) r.growingMode = e->flow->modes.growthRate();
         if (e->flow) {
@@ -674,7 +676,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 summary.coldFlowIterations = r.flowIterations;
             }
         }
-        if (e->ok()) {
+        if (e->ok() && !unresolved) {
             const flow::ForceCoefficients& f = e->flow->forces;
             r.J = objectiveValue(*e->flow);
             r.CL = f.CL;
@@ -700,6 +702,23 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             lastOk = r.index;
             last = e;
             lastX = u;
+        } else if (unresolved) {
+            // The evaluator keeps its last converged state for the next warm start: give it back
+            // the last accepted one, so the next step does not start on this flow's branch.
+            if (lastOk > 0) {
+                ev.setWarmStart(io::readWarmState(statePath(lastOk)));
+            } else {
+                ev.forgetWarmStart();
+            }
+            const FlowLocation& s = e->flow->maxEntropy;
+            r.ok = false;
+            r.message = format("the flow converged, but its entropy error |s - s_inf| reaches %.3g (optimization.max_entropy "
+                               "%.3g) at block %d '%s' node (%d, %d, %d) at (%.4g, %.4g, %.4g), %s: a "
+                               "separated or unresolved flow, not an answer to optimize on (CL %.6g, CD %.6g, max Mach "
+                               "%.3g); the step is cut and the state is not used for warm starts",
+                               std::abs(s.value), oc.maxEntropy, s.block, s.blockName.c_str(), s.node[0], s.node[1],
+                               s.node[2], s.x[0], s.x[1], s.x[2], s.boundary.c_str(), e->flow->forces.CL,
+                               e->flow->forces.CD, e->flow->maxMach.value);
         } else {
             r.ok = false;
             r.message = e->message;

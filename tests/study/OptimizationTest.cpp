@@ -111,6 +111,49 @@ TEST(Optimization, AFailedFlowsGrowingModeIsRecordedInTheHistory) {
     EXPECT_TRUE(found);
 }
 
+// optimization.max_entropy: a flow that converges with more entropy error than the case allows
+// is a failed evaluation with the reason (where, how much, the forces it had), and its state is
+// neither kept for a resume nor left to the evaluator for the next warm start.
+TEST(Optimization, AConvergedFlowBeyondTheEntropyBoundIsAFailedEvaluation) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/entropy_bound";
+    std::filesystem::remove_all(dir);
+    io::CaseFile c = small("sphere_to_bwb.json");
+    c.optimization.optimizer = "slsqp";
+    c.optimization.maxIterations = 1;
+    c.optimization.maxEvaluations = 1;
+    c.optimization.history = dir + "/history.csv";
+    c.optimization.iterations.clear();
+    c.optimization.maxEntropy = 1e-6;  // the half-sphere's flow on 4,320 nodes has 0.03
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.fresh = true;
+    std::vector<study::OptimizationRecord> records;
+    bool flowConverged = false;
+    o.onRecord = [&](const study::OptimizationRecord& r) { records.push_back(r); };
+    o.onEvaluation = [&](const study::OptimizationRecord&, const study::Evaluation& e) { flowConverged = e.ok(); };
+    (void)study::optimizeCase(ev, o);
+    ASSERT_FALSE(records.empty());
+    const study::OptimizationRecord& r = records.front();
+    EXPECT_TRUE(flowConverged);  // the flow itself converged
+    EXPECT_FALSE(r.ok);
+    EXPECT_EQ(r.status, "flow-unresolved");
+    EXPECT_NE(r.message.find("optimization.max_entropy 1e-06"), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find("CL "), std::string::npos) << r.message;
+    EXPECT_EQ(r.message.find("on the on the"), std::string::npos) << r.message;
+    EXPECT_TRUE(ev.lastConvergedState().empty());  // no accepted state before it
+    const std::string states = dir + "/history.states";
+    int kept = 0;
+    if (std::filesystem::exists(states)) {
+        for (const auto& entry : std::filesystem::directory_iterator(states)) kept += entry.path().extension() == ".state";
+    }
+    EXPECT_EQ(kept, 0);
+    // The history says so, for a resume and for the user's plot.
+    const std::vector<study::OptimizationRecord> file = study::readHistory(study::historyJsonlPath(c.optimization.history));
+    bool found = false;
+    for (const auto& f : file) found |= f.kind == study::OptimizationRecord::Kind::Values && f.status == "flow-unresolved";
+    EXPECT_TRUE(found);
+}
+
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
 // optimizer after the flow ones, with their values at the start and gradient rows in the
 // optimizer's scaled variables (checked against differences of the model's functions).
