@@ -32,6 +32,17 @@ io::CaseFile small(const std::string& name) {
     return c;
 }
 
+// The sample on the small grid for a run of one evaluation (SLSQP), its history in `dir`.
+io::CaseFile oneEvaluation(const std::string& dir) {
+    io::CaseFile c = small("sphere_to_bwb.json");
+    c.optimization.optimizer = "slsqp";
+    c.optimization.maxIterations = 1;
+    c.optimization.maxEvaluations = 1;
+    c.optimization.history = dir + "/history.csv";
+    c.optimization.iterations.clear();
+    return c;
+}
+
 }  // namespace
 
 TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
@@ -78,13 +89,7 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
 TEST(Optimization, AFailedFlowsGrowingModeIsRecordedInTheHistory) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/failed_flow_history";
     std::filesystem::create_directories(dir);
-    io::CaseFile c = small("sphere_to_bwb.json");
-    c.optimization.optimizer = "slsqp";
-    c.optimization.maxIterations = 1;
-    c.optimization.maxEvaluations = 1;
-    c.optimization.history = dir + "/history.csv";
-    c.optimization.iterations.clear();
-    c.outputGeometry.clear();
+    io::CaseFile c = oneEvaluation(dir);
     c.flow.newton.maxIterations = 3;  // not converged
     study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
     study::OptimizationOptions o;
@@ -117,12 +122,7 @@ TEST(Optimization, AFailedFlowsGrowingModeIsRecordedInTheHistory) {
 TEST(Optimization, AConvergedFlowBeyondTheEntropyBoundIsAFailedEvaluation) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/entropy_bound";
     std::filesystem::remove_all(dir);
-    io::CaseFile c = small("sphere_to_bwb.json");
-    c.optimization.optimizer = "slsqp";
-    c.optimization.maxIterations = 1;
-    c.optimization.maxEvaluations = 1;
-    c.optimization.history = dir + "/history.csv";
-    c.optimization.iterations.clear();
+    io::CaseFile c = oneEvaluation(dir);
     c.optimization.maxEntropy = 1e-6;  // the half-sphere's flow on 4,320 nodes has 0.03
     study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
     study::OptimizationOptions o;
