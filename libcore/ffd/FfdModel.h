@@ -74,7 +74,8 @@ public:
     std::vector<LinearConstraint> stationGapConstraints(double minGap) const;
     /// Three adjacent stations of a group bend each lattice point's displacement by at most
     /// `maxDifference`: |d(s-1) - 2 d(s) + d(s+1)| <= maxDifference per point of the station and
-    /// per world axis (d = B(v) - B(baseline), case units). Rows that vanish or repeat are left out.
+    /// per world axis (d = B(v) - B(baseline), case units). Rows that vanish, or that two kept
+    /// rows imply (repeats, points between the chord's ends under a taper), are left out.
     std::vector<LinearConstraint> stationSecondDifferenceConstraints(double maxDifference) const;
     /// The largest |d(s-1) - 2 d(s) + d(s+1)| over the same rows at v, and the row's name.
     std::pair<double, std::string> largestStationSecondDifference(std::span<const double> v) const;
