@@ -92,10 +92,12 @@ struct OptimizationCase {
     bool alphaVariable = false;        // the angle of attack is a variable too (flow.alpha its start)
     double alphaLower = -5, alphaUpper = 10;  // degrees
     double minCornerRatio = 0.01;      // every grid cell corner keeps this fraction of its baseline
+                                       // volume (0: no grid-validity constraint)
     double maxWallBend = 0;            // degrees the wall may turn from grid node to node (0: free)
     double maxEntropy = 0;             // a converged flow with a larger |s - s_inf| is a failed
                                        // evaluation (0: any)
-                                       // volume (0: no grid-validity constraint)
+    double maxEntropyRise = 0;         // ... and one whose |s - s_inf| is more than this many times
+                                       // the last accepted evaluation's (0: any)
     bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
     double targetCL = 0;
     std::string history;               // evaluation history (.csv; the .jsonl beside it is what

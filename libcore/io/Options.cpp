@@ -372,6 +372,15 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "where the grid does not resolve the flow or the solution separated (a steady state the "
                             "continuation in the dissipation can land on); its state is not used for warm starts; 0: "
                             "any converged flow counts"));
+        o.push_back(real<O>("max_entropy_rise", "", 0, true, 1e6, false,
+                            [](O& c) -> double& { return c.maxEntropyRise; },
+                            "flow continuity along the path: an evaluation whose flow converges with a largest "
+                            "entropy error more than this many times the last accepted evaluation's is reported to "
+                            "the optimizer as failed (status flow-unresolved), so the step is cut: a step between "
+                            "nearby designs changes a flow continuously, and a jump by such a factor is a switch to "
+                            "another steady state (typically a separated one), not the next point of the path; "
+                            "unlike max_entropy it lets the entropy grow gradually, as it does on coarse grids "
+                            "(docs/validation.md); 0: any rise"));
         o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
                                "keep CL equal to target_cl (with its exact gradient)"));
         o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },

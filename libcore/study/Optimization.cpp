@@ -584,6 +584,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     auto statePath = [&](int index) { return (stateDir / (std::to_string(index) + ".state")).string(); };
     int evaluations = 0, gradients = 0;
     int lastOk = 0;                 // the last converged evaluation (its state is the warm start)
+    double lastOkEntropy = 0;       // its largest |s - s_inf| (optimization.max_entropy_rise)
     std::map<int, int> warmFromOf;  // evaluation -> the evaluation its flow started from
     std::shared_ptr<Evaluation> last;  // the last evaluation run here (for its gradient)
     std::vector<double> lastX;
@@ -634,6 +635,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             if (r.ok) {
                 warmFromOf[r.index] = r.warmFrom;
                 lastOk = r.index;
+                lastOkEntropy = r.maxEntropy;
             }
             record(r);
             out.ok = r.ok;
@@ -661,8 +663,13 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         const std::vector<double> v = design(u);
         r.volume = model.volume(v);
         r.planform = planformOf(e->shape);
-        // A converged flow whose entropy error is beyond the case's bound is no answer to climb on.
-        const bool unresolved = e->ok() && oc.maxEntropy > 0 && std::abs(e->flow->maxEntropy.value) > oc.maxEntropy;
+        // A converged flow whose entropy error is beyond the case's bound, or that jumped from the
+        // last accepted design's by more than the case allows, is no answer to climb on.
+        const double entropy = e->ok() ? std::abs(e->flow->maxEntropy.value) : 0.0;
+        const bool beyondLevel = e->ok() && oc.maxEntropy > 0 && entropy > oc.maxEntropy;
+        const bool jumped = e->ok() && !beyondLevel && oc.maxEntropyRise > 0 && lastOk > 0 && lastOkEntropy > 0 &&
+                            entropy > oc.maxEntropyRise * lastOkEntropy;
+        const bool unresolved = beyondLevel || jumped;
         r.status = unresolved ? "flow-unresolved" : e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
         if (e->flow && e->flow->modesChecked) r.growingMode = e->flow->modes.growthRate();
@@ -683,7 +690,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             r.CD = f.CD;
             r.CM = f.CM;
             r.maxMach = e->flow->maxMach.value;
-            r.maxEntropy = std::abs(e->flow->maxEntropy.value);
+            r.maxEntropy = entropy;
             r.objective = sign * r.J;
             if (volumeConstraint) r.constraints.push_back(r.volume / summary.startVolume);
             if (oc.liftConstraint) r.constraints.push_back(f.CL);
@@ -700,6 +707,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             keepStates(r.index, lastOk);
             warmFromOf[r.index] = lastOk;
             lastOk = r.index;
+            lastOkEntropy = entropy;
             last = e;
             lastX = u;
         } else if (unresolved) {
@@ -711,14 +719,20 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 ev.forgetWarmStart();
             }
             const FlowLocation& s = e->flow->maxEntropy;
+            const std::string bound =
+                beyondLevel ? format("optimization.max_entropy %.3g", oc.maxEntropy)
+                            : format("%.3g times the %.3g of evaluation %d, the last accepted one; "
+                                     "optimization.max_entropy_rise %.3g",
+                                     entropy / lastOkEntropy, lastOkEntropy, lastOk, oc.maxEntropyRise);
             r.ok = false;
-            r.message = format("the flow converged, but its entropy error |s - s_inf| reaches %.3g (optimization.max_entropy "
-                               "%.3g) at block %d '%s' node (%d, %d, %d) at (%.4g, %.4g, %.4g), %s: a "
-                               "separated or unresolved flow, not an answer to optimize on (CL %.6g, CD %.6g, max Mach "
-                               "%.3g); the step is cut and the state is not used for warm starts",
-                               std::abs(s.value), oc.maxEntropy, s.block, s.blockName.c_str(), s.node[0], s.node[1],
-                               s.node[2], s.x[0], s.x[1], s.x[2], s.boundary.c_str(), e->flow->forces.CL,
-                               e->flow->forces.CD, e->flow->maxMach.value);
+            r.message = format("the flow converged, but its entropy error |s - s_inf| reaches %.3g (%s) at block %d "
+                               "'%s' node (%d, %d, %d) at (%.4g, %.4g, %.4g), %s: %s, not an answer to optimize on "
+                               "(CL %.6g, CD %.6g, max Mach %.3g); the step is cut and the state is not used for "
+                               "warm starts",
+                               entropy, bound.c_str(), s.block, s.blockName.c_str(), s.node[0], s.node[1], s.node[2],
+                               s.x[0], s.x[1], s.x[2], s.boundary.c_str(),
+                               beyondLevel ? "a separated or unresolved flow" : "a jump to another steady state (e.g. a separated flow)",
+                               e->flow->forces.CL, e->flow->forces.CD, e->flow->maxMach.value);
         } else {
             r.ok = false;
             r.message = e->message;

@@ -154,6 +154,51 @@ TEST(Optimization, AConvergedFlowBeyondTheEntropyBoundIsAFailedEvaluation) {
     EXPECT_TRUE(found);
 }
 
+// optimization.max_entropy_rise: the first evaluation is accepted whatever its entropy (there is
+// nothing to jump from); a later one whose entropy error is more than the factor times the last
+// accepted evaluation's is refused with the reason, and a resumed run compares with the replayed
+// record's entropy, not with nothing.
+TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/entropy_rise";
+    std::filesystem::remove_all(dir);
+    io::CaseFile c = oneEvaluation(dir);
+    c.optimization.maxIterations = 3;
+    c.optimization.maxEvaluations = 2;
+    c.optimization.maxEntropyRise = 1e-3;  // any next design's flow is a "jump" from the first's
+    auto run = [&](bool resume, std::vector<study::OptimizationRecord>& values) {
+        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+        study::OptimizationOptions o;
+        o.fresh = !resume;
+        o.resume = resume;
+        o.onRecord = [&](const study::OptimizationRecord& r) {
+            if (r.kind == study::OptimizationRecord::Kind::Values) values.push_back(r);
+        };
+        (void)study::optimizeCase(ev, o);
+    };
+    std::vector<study::OptimizationRecord> first;
+    run(false, first);
+    ASSERT_EQ(first.size(), 2u);
+    EXPECT_TRUE(first[0].ok) << first[0].message;
+    EXPECT_GT(first[0].maxEntropy, 0.0);
+    EXPECT_FALSE(first[1].ok);
+    EXPECT_EQ(first[1].status, "flow-unresolved");
+    EXPECT_NE(first[1].message.find("of evaluation 1, the last accepted one; optimization.max_entropy_rise 0.001"),
+              std::string::npos)
+        << first[1].message;
+    EXPECT_NE(first[1].message.find("a jump to another steady state"), std::string::npos) << first[1].message;
+
+    // Resumed with one more evaluation: 1 and 2 are replayed, the third is compared with the first.
+    c.optimization.maxEvaluations = 3;
+    std::vector<study::OptimizationRecord> resumed;
+    run(true, resumed);
+    ASSERT_EQ(resumed.size(), 3u);
+    EXPECT_TRUE(resumed[0].replayed);
+    EXPECT_TRUE(resumed[1].replayed);
+    EXPECT_FALSE(resumed[2].replayed);
+    EXPECT_EQ(resumed[2].status, "flow-unresolved") << resumed[2].message;
+    EXPECT_NE(resumed[2].message.find("of evaluation 1,"), std::string::npos) << resumed[2].message;
+}
+
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
 // optimizer after the flow ones, with their values at the start and gradient rows in the
 // optimizer's scaled variables (checked against differences of the model's functions).
