@@ -98,6 +98,9 @@ struct OptimizationCase {
                                        // evaluation (0: any)
     double maxEntropyRise = 0;         // ... and one whose |s - s_inf| is more than this many times
                                        // the last accepted evaluation's (0: any)
+    std::string warmStartFallback = "continuation";  // after a warm start stalls: "continuation"
+                                       // (free stream, then the dissipation continuation),
+                                       // "free_stream", or "none" (a failed evaluation at once)
     bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
     double targetCL = 0;
     std::string history;               // evaluation history (.csv; the .jsonl beside it is what

@@ -381,6 +381,16 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "another steady state (typically a separated one), not the next point of the path; "
                             "unlike max_entropy it lets the entropy grow gradually, as it does on coarse grids "
                             "(docs/validation.md); 0: any rise"));
+        o.push_back(choice<O>("warm_start_fallback", {"continuation", "free_stream", "none"},
+                              [](O& c) -> std::string& { return c.warmStartFallback; },
+                              "what an evaluation does when its warm start from the last accepted design stalls "
+                              "or diverges: continuation solves again from the free stream and then by "
+                              "continuation in the dissipation (the most robust, and slow: on the 98k "
+                              "sphere-to-BWB path 400-1,100 s per evaluation, ending on separated states); "
+                              "free_stream solves again from the free stream only; none makes it a failed "
+                              "evaluation at once, so the optimizer cuts the step (a stalled warm start from a "
+                              "nearby converged design usually means the step went too far). An evaluation "
+                              "without a warm start (the first) always takes the whole ladder"));
         o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
                                "keep CL equal to target_cl (with its exact gradient)"));
         o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },

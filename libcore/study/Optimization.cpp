@@ -621,6 +621,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     auto evaluateAt = [&](const std::vector<double>& u) {
         EvaluationRequest req;
         req.alphaDeg = alphaOf(u);
+        if (!ev.lastConvergedState().empty()) {
+            // A step from an accepted design (optimization.warm_start_fallback): what a stalled
+            // warm start may try before the evaluation fails and the optimizer cuts the step.
+            req.coldRetry = oc.warmStartFallback != "none";
+            req.dissipationRetry = oc.warmStartFallback == "continuation";
+        }
         return std::make_shared<Evaluation>(ev.evaluate(design(u), req, o.progress, o.cancel));
     };
 
@@ -736,6 +742,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         } else {
             r.ok = false;
             r.message = e->message;
+            if (e->flow && (e->flow->warmStarted || e->flow->coldRetry()) && oc.warmStartFallback != "continuation") {
+                r.message += format(" (a warm start from evaluation %d; optimization.warm_start_fallback %s: %s)", lastOk,
+                                    oc.warmStartFallback.c_str(),
+                                    oc.warmStartFallback == "none" ? "not solved again, the step is cut"
+                                                                   : "no continuation in the dissipation");
+            }
         }
         if (o.onEvaluation) o.onEvaluation(r, *e);
         record(r);

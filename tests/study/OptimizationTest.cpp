@@ -199,6 +199,44 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
     EXPECT_NE(resumed[2].message.find("of evaluation 1,"), std::string::npos) << resumed[2].message;
 }
 
+// optimization.warm_start_fallback: the second evaluation's warm start is made to fail at once
+// (a state of zero density in place of the first evaluation's); "none" makes that a failed
+// evaluation with the reason, "free_stream" solves it again from the free stream and converges.
+TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
+    auto secondEvaluation = [](const std::string& fallback) {
+        const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/warm_fallback_" + fallback;
+        std::filesystem::remove_all(dir);
+        io::CaseFile c = oneEvaluation(dir);
+        c.optimization.maxIterations = 3;
+        c.optimization.maxEvaluations = 2;
+        c.optimization.warmStartFallback = fallback;
+        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+        study::OptimizationOptions o;
+        o.fresh = true;
+        std::vector<study::OptimizationRecord> values;
+        o.onRecord = [&](const study::OptimizationRecord& r) {
+            if (r.kind != study::OptimizationRecord::Kind::Values) return;
+            values.push_back(r);
+            if (r.ok) ev.setWarmStart(std::vector<double>(ev.lastConvergedState().size(), 0.0));
+        };
+        (void)study::optimizeCase(ev, o);
+        EXPECT_EQ(values.size(), 2u);
+        EXPECT_TRUE(!values.empty() && values[0].ok);
+        return values.size() == 2 ? values[1] : study::OptimizationRecord{};
+    };
+    const study::OptimizationRecord none = secondEvaluation("none");
+    EXPECT_FALSE(none.ok);
+    EXPECT_NE(none.message.find("non-positive density"), std::string::npos) << none.message;
+    EXPECT_NE(none.message.find("(a warm start from evaluation 1; optimization.warm_start_fallback none: not solved "
+                                "again, the step is cut)"),
+              std::string::npos)
+        << none.message;
+    EXPECT_EQ(none.flowIterations, 0);
+    const study::OptimizationRecord cold = secondEvaluation("free_stream");
+    EXPECT_TRUE(cold.ok) << cold.message;
+    EXPECT_GT(cold.flowIterations, 5);
+}
+
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
 // optimizer after the flow ones, with their values at the start and gradient rows in the
 // optimizer's scaled variables (checked against differences of the model's functions).
