@@ -38,6 +38,8 @@ namespace {
 constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (io/Options.cpp documents it)
 constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - cos of the bend)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The status of a converged flow refused by optimization.max_entropy or max_entropy_rise.
+constexpr const char* kUnresolved = "flow-unresolved";
 
 // The planform of an evaluated shape for the history (zeros when there is none: a design whose
 // lattice folded before its shape was built, or trimmed patches).
@@ -285,13 +287,15 @@ private:
     std::string evaluationRow(const OptimizationRecord& r) const {
         std::string s = std::string(recordKindName(r.kind)) + "," + std::to_string(r.index) + ",";
         if (r.kind == Kind::Values) {
+            // A refused converged flow (flow-unresolved) has forces to plot, but no objective.
+            const bool flow = r.ok || r.status == kUnresolved;
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
-                 csvNumber(r.ok ? r.CL : kNaN) + "," + csvNumber(r.ok ? r.CD : kNaN) + "," +
-                 csvNumber(r.ok ? r.CL / r.CD : kNaN) + "," + csvNumber(r.ok ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
+                 csvNumber(flow ? r.CL : kNaN) + "," + csvNumber(flow ? r.CD : kNaN) + "," +
+                 csvNumber(flow ? r.CL / r.CD : kNaN) + "," + csvNumber(flow ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
                  planformFields(r.planform) + "," +
                  csvNumber(r.cornerRatio != 0 ? std::exp(r.cornerRatio) : kNaN) + "," +
-                 csvNumber(r.wallBend != 0 ? r.wallBend : kNaN) + "," + csvNumber(r.ok ? r.maxMach : kNaN) + "," +
-                 csvNumber(r.ok ? r.maxEntropy : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
+                 csvNumber(r.wallBend != 0 ? r.wallBend : kNaN) + "," + csvNumber(flow ? r.maxMach : kNaN) + "," +
+                 csvNumber(flow ? r.maxEntropy : kNaN) + "," + csvNumber(r.alphaDeg) + "," +
                  std::to_string(r.flowIterations) + ",," + csvNumber(r.seconds) + "," +
                  csvText(r.message);
         } else {
@@ -676,7 +680,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         const bool jumped = e->ok() && !beyondLevel && oc.maxEntropyRise > 0 && lastOk > 0 && lastOkEntropy > 0 &&
                             entropy > oc.maxEntropyRise * lastOkEntropy;
         const bool unresolved = beyondLevel || jumped;
-        r.status = unresolved ? "flow-unresolved" : e->ok() ? "ok" : evaluationStatusName(e->status);
+        r.status = unresolved ? kUnresolved : e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
         if (e->flow && e->flow->modesChecked) r.growingMode = e->flow->modes.growthRate();
         if (e->flow) {
@@ -724,6 +728,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             } else {
                 ev.forgetWarmStart();
             }
+            const flow::ForceCoefficients& f = e->flow->forces;
+            r.CL = f.CL;  // kept for the history's plots; the optimizer sees a failed evaluation
+            r.CD = f.CD;
+            r.CM = f.CM;
+            r.maxMach = e->flow->maxMach.value;
+            r.maxEntropy = entropy;
             const FlowLocation& s = e->flow->maxEntropy;
             const std::string bound =
                 beyondLevel ? format("optimization.max_entropy %.3g", oc.maxEntropy)

@@ -8,8 +8,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "common/Error.h"
+#include "common/Format.h"
 #include "ffd/ShapeConstraints.h"
 #include "geometry/EnclosedVolume.h"
 #include "io/CaseFile.h"
@@ -152,6 +155,16 @@ TEST(Optimization, AConvergedFlowBeyondTheEntropyBoundIsAFailedEvaluation) {
     bool found = false;
     for (const auto& f : file) found |= f.kind == study::OptimizationRecord::Kind::Values && f.status == "flow-unresolved";
     EXPECT_TRUE(found);
+    // The refused flow's forces and entropy stay in the history for the user's plots (its
+    // objective does not: the optimizer saw a failure).
+    EXPECT_GT(r.maxEntropy, 1e-6);
+    EXPECT_GT(r.CD, 0.0);
+    std::ifstream csvIn(c.optimization.history);
+    std::stringstream csv;
+    csv << csvIn.rdbuf();
+    EXPECT_NE(csv.str().find(format("values,1,flow-unresolved,,,%.17g,%.17g,", r.CL, r.CD)), std::string::npos)
+        << csv.str();
+    EXPECT_NE(csv.str().find(format(",%.17g,%.17g,", r.maxMach, r.maxEntropy)), std::string::npos) << csv.str();
 }
 
 // optimization.max_entropy_rise: the first evaluation is accepted whatever its entropy (there is
