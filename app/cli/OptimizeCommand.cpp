@@ -154,8 +154,9 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
                        static_cast<double>(s.replayedGradients)));
         }
         if (s.warmStarts > 0) {
-            say(format("warm starts: %.0f evaluations, %.1f flow iterations on average (the cold start took %.0f)",
-                       static_cast<double>(s.warmStarts), s.meanWarmFlowIterations, static_cast<double>(s.coldFlowIterations)));
+            say(format("warm starts: %.0f evaluations, %.1f flow iterations on average", static_cast<double>(s.warmStarts),
+                       s.meanWarmFlowIterations) +
+                (s.coldFlowIterations > 0 ? format(" (the cold start took %d)", s.coldFlowIterations) : std::string()));
         }
         say("history: " + s.historyCsv + ", " + s.iterationsCsv + " (exact records: " + s.historyJsonl + ")");
         say("best shape: " + s.finalGeometry + (c.outputGeometry.empty() ? "" : " and " + c.outputGeometry));

@@ -647,6 +647,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 lastOk = r.index;
                 lastOkEntropy = r.maxEntropy;
             }
+            if (r.warmFrom == 0 && summary.coldFlowIterations == 0) summary.coldFlowIterations = r.flowIterations;
             record(r);
             out.ok = r.ok;
             out.message = r.ok ? std::string() : r.status + ": " + r.message;  // as when it was run

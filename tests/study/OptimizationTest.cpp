@@ -186,10 +186,10 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
         o.onRecord = [&](const study::OptimizationRecord& r) {
             if (r.kind == study::OptimizationRecord::Kind::Values) values.push_back(r);
         };
-        (void)study::optimizeCase(ev, o);
+        return study::optimizeCase(ev, o);
     };
     std::vector<study::OptimizationRecord> first;
-    run(false, first);
+    (void)run(false, first);
     ASSERT_EQ(first.size(), 2u);
     EXPECT_TRUE(first[0].ok) << first[0].message;
     EXPECT_GT(first[0].maxEntropy, 0.0);
@@ -203,8 +203,9 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
     // Resumed with one more evaluation: 1 and 2 are replayed, the third is compared with the first.
     c.optimization.maxEvaluations = 3;
     std::vector<study::OptimizationRecord> resumed;
-    run(true, resumed);
+    const study::OptimizationSummary s = run(true, resumed);
     ASSERT_EQ(resumed.size(), 3u);
+    EXPECT_EQ(s.coldFlowIterations, first[0].flowIterations);  // the replayed cold start's, not 0
     EXPECT_TRUE(resumed[0].replayed);
     EXPECT_TRUE(resumed[1].replayed);
     EXPECT_FALSE(resumed[2].replayed);
