@@ -334,7 +334,8 @@ QString OptimizationPlots::evaluationsCsv() const {
         "evaluation,status,objective,J,CL,CD,L/"
         "D,volume,half_span,projected_area,aspect_ratio,max_mach,alpha_deg,flow_iterations,message\n");
     for (const auto& r : evaluations_) {
-        const double ld = r.ok && r.CD != 0 ? r.CL / r.CD : kNaN;
+        const bool flow = study::hasConvergedFlow(r);  // a refused converged flow keeps its forces
+        const double ld = flow && r.CD != 0 ? r.CL / r.CD : kNaN;
         const geometry::Planform& f = r.planform;
         const bool planform = f.projectedArea > 0;
         out +=
@@ -342,10 +343,10 @@ QString OptimizationPlots::evaluationsCsv() const {
                 .arg(r.index)
                 .arg(csvText(QString::fromStdString(r.status)))
                 .arg(csvNumber(r.ok ? r.objective : kNaN), csvNumber(r.ok ? r.J : kNaN),
-                     csvNumber(r.ok ? r.CL : kNaN), csvNumber(r.ok ? r.CD : kNaN), csvNumber(ld),
+                     csvNumber(flow ? r.CL : kNaN), csvNumber(flow ? r.CD : kNaN), csvNumber(ld),
                      csvNumber(r.volume), csvNumber(planform ? f.halfSpan : kNaN),
                      csvNumber(planform ? f.projectedArea : kNaN), csvNumber(planform ? f.aspectRatio : kNaN))
-                .arg(csvNumber(r.ok ? r.maxMach : kNaN), csvNumber(r.alphaDeg))
+                .arg(csvNumber(flow ? r.maxMach : kNaN), csvNumber(r.alphaDeg))
                 .arg(r.flowIterations)
                 .arg(csvText(QString::fromStdString(r.message)));
     }

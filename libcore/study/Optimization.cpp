@@ -288,7 +288,7 @@ private:
         std::string s = std::string(recordKindName(r.kind)) + "," + std::to_string(r.index) + ",";
         if (r.kind == Kind::Values) {
             // A refused converged flow (flow-unresolved) has forces to plot, but no objective.
-            const bool flow = r.ok || r.status == kUnresolved;
+            const bool flow = hasConvergedFlow(r);
             s += csvText(r.status) + "," + csvNumber(r.ok ? r.objective : kNaN) + "," + csvNumber(r.ok ? r.J : kNaN) + "," +
                  csvNumber(flow ? r.CL : kNaN) + "," + csvNumber(flow ? r.CD : kNaN) + "," +
                  csvNumber(flow ? r.CL / r.CD : kNaN) + "," + csvNumber(flow ? r.CM : kNaN) + "," + csvNumber(r.volume) + "," +
@@ -330,6 +330,10 @@ private:
 };
 
 }  // namespace
+
+bool hasConvergedFlow(const OptimizationRecord& r) {
+    return r.kind == Kind::Values && (r.ok || r.status == kUnresolved);
+}
 
 const char* recordKindName(Kind k) {
     switch (k) {

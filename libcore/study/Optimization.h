@@ -66,6 +66,10 @@ struct OptimizationRecord {
     bool replayed = false;           // read back on --resume, not run again
 };
 const char* recordKindName(OptimizationRecord::Kind k);
+/// A values record whose flow converged: accepted, or refused by optimization.max_entropy or
+/// max_entropy_rise (status "flow-unresolved"). Its forces, max Mach and entropy mean something;
+/// its objective only if it is ok.
+bool hasConvergedFlow(const OptimizationRecord& r);
 
 struct OptimizationOptions {
     bool resume = false;     // continue the history (replayed, then run on); false: a new run,

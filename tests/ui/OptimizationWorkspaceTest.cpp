@@ -155,6 +155,7 @@ class OptimizationWorkspaceTest : public QObject {
     void oneRunAtATime();
     void quittingMidRunAsksAndLeavesAResumableHistory();
     void badInputIsExplained();
+    void exportKeepsARefusedFlowsForces();
 
   private:
     OptimizationRunner& runner() { return window_->optimization().runner(); }
@@ -657,6 +658,38 @@ void OptimizationWorkspaceTest::quittingMidRunAsksAndLeavesAResumableHistory() {
     QCOMPARE(runner().summary()->result.x, referenceX_);
     QCOMPARE(exactRecords(jsonl), reference_);
     QCOMPARE(plots().volumePoints(), referenceEvaluations_);
+}
+
+// A converged flow refused by an entropy check (status flow-unresolved) keeps its CL, CD and max
+// Mach in the exported table, as in the CLI's history CSV; its objective stays empty, and a
+// failed flow has no forces at all.
+void OptimizationWorkspaceTest::exportKeepsARefusedFlowsForces() {
+    aero::ui::OptimizationHistory h;
+    auto values = [](int index, bool ok, const std::string& status) {
+        aero::study::OptimizationRecord r;
+        r.kind = Kind::Values;
+        r.index = index;
+        r.ok = ok;
+        r.status = status;
+        r.objective = -0.5;
+        r.J = 0.5;
+        r.CL = 0.125;
+        r.CD = 0.25;
+        r.maxMach = 1.5;
+        r.volume = 2;
+        return r;
+    };
+    h.add(values(1, true, "ok"));
+    h.add(values(2, false, "flow-unresolved"));
+    h.add(values(3, false, "flow-not-converged"));
+    aero::ui::OptimizationPlots plots;
+    plots.setHistory(h);
+    const QStringList rows = plots.evaluationsCsv().split(QLatin1Char('\n'));
+    QVERIFY2(rows.size() >= 4, qPrintable(rows.join(QLatin1Char('\n'))));
+    QVERIFY2(rows[1].startsWith(QStringLiteral("1,ok,-0.5,0.5,0.125,0.25,0.5,2,")), qPrintable(rows[1]));
+    QVERIFY2(rows[2].startsWith(QStringLiteral("2,flow-unresolved,,,0.125,0.25,0.5,2,")), qPrintable(rows[2]));
+    QVERIFY2(rows[2].contains(QStringLiteral(",1.5,")), qPrintable(rows[2]));
+    QVERIFY2(rows[3].startsWith(QStringLiteral("3,flow-not-converged,,,,,,2,")), qPrintable(rows[3]));
 }
 
 void OptimizationWorkspaceTest::badInputIsExplained() {
