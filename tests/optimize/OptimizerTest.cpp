@@ -119,6 +119,47 @@ TEST_P(Optimizers, SurviveFailedEvaluations) {
     std::printf("%s: %d evaluations, %d failed\n", GetParam().c_str(), r.evaluations, r.failedEvaluations);
 }
 
+// Early failures shrink SLSQP's backtracking box to a small one around the start, far from the
+// optimum of a non-quadratic objective; the box must then grow again as the iterates reach its
+// face, not after SLSQP has converged on each face in many tiny steps.
+TEST_P(Optimizers, GrowBackAfterEarlyFailures) {
+    // min -x0 + 50 (x1 - sin x0)^2 on [-10, 10]^2: along a curved valley to x0 = 10.
+    Problem p;
+    p.start = {0, 0};
+    p.lower = {-10, -10};
+    p.upper = {10, 10};
+    p.values = [](const std::vector<double>& x) {
+        Values v;
+        v.objective = -x[0] + 50 * std::pow(x[1] - std::sin(x[0]), 2);
+        return v;
+    };
+    p.gradients = [](const std::vector<double>& x) {
+        const double d = x[1] - std::sin(x[0]);
+        Gradients g;
+        g.objective = {-1 - 100 * d * std::cos(x[0]), 100 * d};
+        return g;
+    };
+    auto failures = std::make_shared<int>(0);
+    auto inner = p.values;
+    p.values = [inner, failures](const std::vector<double>& x) {
+        if (*failures < 5 && std::max(std::abs(x[0]), std::abs(x[1])) > 0.02) {
+            ++*failures;
+            Values v;
+            v.ok = false;
+            v.message = "too far while the flow is fragile";
+            return v;
+        }
+        return inner(x);
+    };
+    const Result r = makeOptimizer(GetParam())->minimize(p, Settings{});
+    EXPECT_EQ(r.status, Status::Converged) << r.message;
+    std::printf("%s: %d evaluations, %d failed, x %.6f %.6f\n", GetParam().c_str(), r.evaluations, r.failedEvaluations, r.x[0], r.x[1]);
+    EXPECT_NEAR(r.x[0], 10.0, 1e-6);
+    EXPECT_EQ(r.failedEvaluations, 5);
+    // SLSQP creeping along each box's face took 154 evaluations and stopped short (x0 7.97).
+    EXPECT_LE(r.evaluations, 120);
+}
+
 TEST_P(Optimizers, StopAtTheEvaluationLimitAndOnCancel) {
     Settings s;
     s.maxEvaluations = 3;
