@@ -616,7 +616,29 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             csv.rewrite(kept);
             replay.clear();
         }
-        if (lastOk > 0) ev.setWarmStart(io::readWarmState(statePath(lastOk)));
+        if (lastOk > 0) {
+            std::vector<double> q = io::readWarmState(statePath(lastOk));
+            if (q.empty()) {
+                // Its state was not kept (only the newest two are): the newest state left on
+                // this grid is a nearby converged flow, a better start than the free stream.
+                int newest = 0;
+                for (const auto& entry : fs::directory_iterator(stateDir)) {
+                    if (entry.path().extension() != ".state") continue;
+                    const int k = std::atoi(entry.path().stem().string().c_str());
+                    if (k <= newest) continue;
+                    std::vector<double> other = io::readWarmState(entry.path().string());
+                    if (other.empty()) continue;
+                    newest = k;
+                    q = std::move(other);
+                }
+                if (newest > 0) {
+                    say(format("evaluation %d's flow state was not kept: the next flow starts from that of the discarded "
+                               "evaluation %d",
+                               lastOk, newest));
+                }
+            }
+            ev.setWarmStart(std::move(q));
+        }
     };
     auto keepStates = [&](int newest, int previous) {
         // Only the newest converged state and the one it started from are needed by a resume.

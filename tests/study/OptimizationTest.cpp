@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "common/Error.h"
 #include "common/Format.h"
 #include "ffd/ShapeConstraints.h"
@@ -249,6 +251,66 @@ TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
     const study::OptimizationRecord cold = secondEvaluation("free_stream");
     EXPECT_TRUE(cold.ok) << cold.message;
     EXPECT_GT(cold.flowIterations, 5);
+}
+
+// A resumed run that leaves its recorded path (here: gradient 2's recorded objective row changed,
+// as another build's round-off would, so SLSQP asks for another third point) goes on from
+// evaluation 2; its flow state was removed (only the newest two are kept), so the next flow
+// starts from the newest state left, a nearby converged flow, not from the free stream.
+TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/left_path";
+    std::filesystem::remove_all(dir);
+    io::CaseFile c = oneEvaluation(dir);
+    c.optimization.maxIterations = 10;
+    c.optimization.maxEvaluations = 5;
+    {
+        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+        study::OptimizationOptions o;
+        o.fresh = true;
+        (void)study::optimizeCase(ev, o);
+    }
+    const std::string jsonl = study::historyJsonlPath(c.optimization.history);
+    std::vector<std::string> lines;
+    {
+        std::ifstream in(jsonl);
+        for (std::string line; std::getline(in, line);) lines.push_back(line);
+    }
+    bool changed = false;
+    for (std::string& line : lines) {
+        nlohmann::json j = nlohmann::json::parse(line);
+        if (j.value("kind", "") != "gradient" || j.value("gradient", 0) != 2) continue;
+        ASSERT_TRUE(j.value("ok", false)) << line;
+        for (auto& g : j["d_objective"]) g = g.get<double>() * 1.01;
+        line = j.dump();
+        changed = true;
+    }
+    ASSERT_TRUE(changed);
+    {
+        std::ofstream out(jsonl, std::ios::trunc);
+        for (const std::string& line : lines) out << line << "\n";
+    }
+    ASSERT_FALSE(std::filesystem::exists(dir + "/history.states/2.state"));
+    int newest = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir + "/history.states"))
+        newest = std::max(newest, std::atoi(entry.path().stem().string().c_str()));
+    ASSERT_GT(newest, 2);
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.resume = true;
+    std::string log;
+    o.log = [&](const std::string& line) { log += line + "\n"; };
+    std::vector<bool> warm;
+    o.onEvaluation = [&](const study::OptimizationRecord&, const study::Evaluation& e) {
+        warm.push_back(e.flow && e.flow->warmStarted);
+    };
+    (void)study::optimizeCase(ev, o);
+    EXPECT_NE(log.find("the optimizer left the recorded path (another evaluation point)"), std::string::npos) << log;
+    EXPECT_NE(log.find("evaluation 2's flow state was not kept: the next flow starts from that of the discarded "
+                       "evaluation " + std::to_string(newest)),
+              std::string::npos)
+        << log;
+    ASSERT_FALSE(warm.empty());
+    EXPECT_TRUE(warm[0]);
 }
 
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
