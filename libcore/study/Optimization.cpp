@@ -610,8 +610,18 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             // The optimizer left the recorded path (e.g. another build): the rest no longer applies.
             say(std::string("the optimizer left the recorded path (") + why + "): the " + std::to_string(replay.size()) +
                 " records after it are discarded and solved anew");
-            std::vector<OptimizationRecord> prefix(kept.begin(), kept.end() - static_cast<long>(replay.size()));
-            kept = prefix;
+            // The records from the first one not replayed on: the values and gradients left in
+            // `replay`, and the iterations recorded between them (they are not in `replay`).
+            std::size_t cut = kept.size(), removed = 0;
+            while (cut > 0 && removed < replay.size()) {
+                --cut;
+                if (kept[cut].kind == Kind::Values || kept[cut].kind == Kind::Gradient) ++removed;
+            }
+            kept.resize(cut);
+            recordedIterations = -1;  // the iterations from here on are new ones, to be written
+            for (const OptimizationRecord& r : kept) {
+                if (r.kind == Kind::Iteration) recordedIterations = std::max(recordedIterations, r.index);
+            }
             rewriteHistory();
             csv.rewrite(kept);
             replay.clear();

@@ -311,6 +311,18 @@ TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
         << log;
     ASSERT_FALSE(warm.empty());
     EXPECT_TRUE(warm[0]);
+    // The history holds the path as it now is: evaluations, gradients and iterations numbered
+    // once each, in order (none of the discarded records left between them).
+    int values = 0, gradients = 0, iterations = -1;
+    for (const auto& r : study::readHistory(jsonl)) {
+        if (r.kind == study::OptimizationRecord::Kind::Values) EXPECT_EQ(r.index, ++values);
+        if (r.kind == study::OptimizationRecord::Kind::Gradient) EXPECT_EQ(r.index, ++gradients);
+        if (r.kind == study::OptimizationRecord::Kind::Iteration) {
+            if (iterations >= 0) EXPECT_EQ(r.index, iterations + 1);
+            iterations = r.index;
+        }
+    }
+    EXPECT_EQ(values, 5);
 }
 
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
