@@ -48,6 +48,15 @@ io::CaseFile oneEvaluation(const std::string& dir) {
     return c;
 }
 
+// The same for a short SLSQP run, its history in `dir` emptied first.
+io::CaseFile shortRun(const std::string& dir, int maxIterations, int maxEvaluations) {
+    std::filesystem::remove_all(dir);
+    io::CaseFile c = oneEvaluation(dir);
+    c.optimization.maxIterations = maxIterations;
+    c.optimization.maxEvaluations = maxEvaluations;
+    return c;
+}
+
 }  // namespace
 
 TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
@@ -175,10 +184,7 @@ TEST(Optimization, AConvergedFlowBeyondTheEntropyBoundIsAFailedEvaluation) {
 // record's entropy, not with nothing.
 TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/entropy_rise";
-    std::filesystem::remove_all(dir);
-    io::CaseFile c = oneEvaluation(dir);
-    c.optimization.maxIterations = 3;
-    c.optimization.maxEvaluations = 2;
+    io::CaseFile c = shortRun(dir, 3, 2);
     c.optimization.maxEntropyRise = 1e-3;  // any next design's flow is a "jump" from the first's
     auto run = [&](bool resume, std::vector<study::OptimizationRecord>& values) {
         study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
@@ -221,10 +227,7 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
 TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
     auto secondEvaluation = [](const std::string& fallback) {
         const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/warm_fallback_" + fallback;
-        std::filesystem::remove_all(dir);
-        io::CaseFile c = oneEvaluation(dir);
-        c.optimization.maxIterations = 3;
-        c.optimization.maxEvaluations = 2;
+        io::CaseFile c = shortRun(dir, 3, 2);
         c.optimization.warmStartFallback = fallback;
         study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
         study::OptimizationOptions o;
@@ -259,10 +262,7 @@ TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
 // starts from the newest state left, a nearby converged flow, not from the free stream.
 TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/left_path";
-    std::filesystem::remove_all(dir);
-    io::CaseFile c = oneEvaluation(dir);
-    c.optimization.maxIterations = 10;
-    c.optimization.maxEvaluations = 5;
+    io::CaseFile c = shortRun(dir, 10, 5);
     {
         study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
         study::OptimizationOptions o;
@@ -315,10 +315,14 @@ TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
     // once each, in order (none of the discarded records left between them).
     int values = 0, gradients = 0, iterations = -1;
     for (const auto& r : study::readHistory(jsonl)) {
-        if (r.kind == study::OptimizationRecord::Kind::Values) EXPECT_EQ(r.index, ++values);
-        if (r.kind == study::OptimizationRecord::Kind::Gradient) EXPECT_EQ(r.index, ++gradients);
-        if (r.kind == study::OptimizationRecord::Kind::Iteration) {
-            if (iterations >= 0) EXPECT_EQ(r.index, iterations + 1);
+        if (r.kind == study::OptimizationRecord::Kind::Values) {
+            EXPECT_EQ(r.index, ++values);
+        } else if (r.kind == study::OptimizationRecord::Kind::Gradient) {
+            EXPECT_EQ(r.index, ++gradients);
+        } else if (r.kind == study::OptimizationRecord::Kind::Iteration) {
+            if (iterations >= 0) {
+                EXPECT_EQ(r.index, iterations + 1);
+            }
             iterations = r.index;
         }
     }
