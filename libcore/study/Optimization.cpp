@@ -332,7 +332,8 @@ private:
 }  // namespace
 
 bool hasConvergedFlow(const OptimizationRecord& r) {
-    return r.kind == Kind::Values && (r.ok || r.status == kUnresolved);
+    // A refused record written before the forces were kept has none (CD 0).
+    return r.kind == Kind::Values && (r.ok || (r.status == kUnresolved && r.CD != 0));
 }
 
 const char* recordKindName(Kind k) {
