@@ -33,7 +33,6 @@ struct Run {
     const std::vector<double>* boxLower = nullptr;
     const std::vector<double>* boxUpper = nullptr;
     double previous = std::numeric_limits<double>::quiet_NaN();
-    bool boxStalled = false;
 };
 
 // Whether x lies on a face of the run's box that is not one of the problem's own bounds.
@@ -82,8 +81,7 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
         r.previous = v->objective;
         // A gain, but a small one (a worse point is a line-search trial: SLSQP goes on from it).
         if (std::isfinite(gain) && gain >= 0 && gain < kBoxProgress * scale && onBoxFace(r, x, n)) {
-            r.boxStalled = true;
-            throw nlopt::forced_stop();
+            throw nlopt::forced_stop();  // the driver below grows the box
         }
     }
     return v->objective;
@@ -214,7 +212,7 @@ public:
                 box(good);
                 continue;
             }
-            if (run.boxStalled || lo != p.lower || hi != p.upper) {
+            if (lo != p.lower || hi != p.upper) {
                 // The run ended without a failure while its box binds (or crept along its face):
                 // go on from its end with a larger box (lifted once it covers the bounds).
                 const std::vector<double> end = t.lastGradientPoint().empty() ? x : t.lastGradientPoint();

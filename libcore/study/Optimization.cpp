@@ -731,17 +731,20 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 summary.coldFlowIterations = r.flowIterations;
             }
         }
-        if (e->ok() && !unresolved) {
+        if (e->ok()) {
+            // Accepted or refused, the flow converged: its forces go to the history.
             const flow::ForceCoefficients& f = e->flow->forces;
-            r.J = objectiveValue(*e->flow);
             r.CL = f.CL;
             r.CD = f.CD;
             r.CM = f.CM;
             r.maxMach = e->flow->maxMach.value;
             r.maxEntropy = entropy;
+        }
+        if (e->ok() && !unresolved) {
+            r.J = objectiveValue(*e->flow);
             r.objective = sign * r.J;
             if (volumeConstraint) r.constraints.push_back(r.volume / summary.startVolume);
-            if (oc.liftConstraint) r.constraints.push_back(f.CL);
+            if (oc.liftConstraint) r.constraints.push_back(r.CL);
             if (gridConstraint) {
                 r.cornerRatio = mesh::cornerRatioSmoothMin(e->mesh->grids, ev.baselineGrids(), kCornerRatioRho);
                 r.constraints.push_back(r.cornerRatio);
@@ -766,12 +769,6 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             } else {
                 ev.forgetWarmStart();
             }
-            const flow::ForceCoefficients& f = e->flow->forces;
-            r.CL = f.CL;  // kept for the history's plots; the optimizer sees a failed evaluation
-            r.CD = f.CD;
-            r.CM = f.CM;
-            r.maxMach = e->flow->maxMach.value;
-            r.maxEntropy = entropy;
             const FlowLocation& s = e->flow->maxEntropy;
             const std::string bound =
                 beyondLevel ? format("optimization.max_entropy %.3g", oc.maxEntropy)
@@ -786,7 +783,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                                entropy, bound.c_str(), s.block, s.blockName.c_str(), s.node[0], s.node[1], s.node[2],
                                s.x[0], s.x[1], s.x[2], s.boundary.c_str(),
                                beyondLevel ? "a separated or unresolved flow" : "a jump to another steady state (e.g. a separated flow)",
-                               e->flow->forces.CL, e->flow->forces.CD, e->flow->maxMach.value);
+                               r.CL, r.CD, r.maxMach);
         } else {
             r.ok = false;
             r.message = e->message;
