@@ -15,6 +15,7 @@
 #include "cli/SvgPlot.h"
 #include "common/Format.h"
 #include "common/Memory.h"
+#include "io/CaseWriter.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
 #include "study/Optimization.h"
@@ -25,6 +26,7 @@ namespace {
 
 const char* kHelp =
     "usage: aeroform-cli optimize CASE.json [--resume | --fresh] [--json] [--quiet]\n"
+    "       aeroform-cli optimize CASE.json --design N OUT.json\n"
     "\n"
     "Runs the case's \"optimization\" section: the objective (a flow functional) over the design\n"
     "variables (and alpha) with the case's constraints, by Ipopt or SLSQP with exact adjoint\n"
@@ -38,6 +40,11 @@ const char* kHelp =
     "            an error: nothing is overwritten)\n"
     "  --json    a summary as JSON on stdout at the end\n"
     "  --quiet   no flow iterations on stderr (evaluations and iterations are still shown)\n"
+    "  --design N OUT.json\n"
+    "            write evaluation N of the history as a case of its own (its design values and\n"
+    "            angle of attack, no outputs, no optimization section) and stop: aeroform-cli flow\n"
+    "            OUT.json solves it again, e.g. to see why a failed step's flow did not converge\n"
+    "            (flow.stall_modes) or to look at the flow of an iterate\n"
     "  --help    this text\n"
     "Ctrl+C stops at the next flow iteration (the history is kept: --resume continues it).\n"
     "Exit 0 when the optimizer converged or reached its iteration or evaluation limit, 1 when it\n"
@@ -76,6 +83,8 @@ std::vector<std::string> writeConvergencePlots(const study::OptimizationSummary&
     return {objectivePlot, optimalityPlot};
 }
 
+int writeEvaluationCase(const std::string& casePath, int evaluation, const std::string& out);
+
 }  // namespace
 
 int cmdOptimize(const Args& args) {
@@ -86,12 +95,44 @@ int cmdOptimize(const Args& args) {
     std::vector<std::string> pos;
     std::map<std::string, std::string> val;
     std::string err;
-    if (!parse(args, {"--resume", "--fresh", "--json", "--quiet"}, {}, pos, val, err)) return usageError("optimize", err, kHelp);
+    if (!parse(args, {"--resume", "--fresh", "--json", "--quiet"}, {"--design"}, pos, val, err)) return usageError("optimize", err, kHelp);
+    if (val.count("--design")) {
+        if (pos.size() != 2) return usageError("optimize", "--design N needs the case file and the output file", kHelp);
+        if (hasFlag(args, "--resume") || hasFlag(args, "--fresh")) {
+            return usageError("optimize", "--design writes a case and runs nothing: no --resume or --fresh", kHelp);
+        }
+        char* end = nullptr;
+        const long n = std::strtol(val["--design"].c_str(), &end, 10);
+        if (end == val["--design"].c_str() || *end != '\0' || n < 1 || n > 100000000) {
+            return usageError("optimize", "--design: '" + val["--design"] + "' is not an evaluation number (1, 2, ...)", kHelp);
+        }
+        return writeEvaluationCase(pos[0], static_cast<int>(n), pos[1]);
+    }
     if (pos.size() != 1) return usageError("optimize", "expected exactly one case file", kHelp);
     if (hasFlag(args, "--resume") && hasFlag(args, "--fresh")) return usageError("optimize", "--resume and --fresh exclude each other", kHelp);
     return runOptimize(pos[0], hasFlag(args, "--resume"), hasFlag(args, "--fresh"), hasFlag(args, "--json"),
                        hasFlag(args, "--quiet"));
 }
+
+namespace {
+
+int writeEvaluationCase(const std::string& casePath, int evaluation, const std::string& out) {
+    return guarded("optimize", [&] {
+        const io::CaseFile c = io::readCase(casePath);
+        const study::CaseEvaluator ev(c, loadPatchSet(c.geometry));
+        const io::CaseFile one = study::evaluationCase(ev, evaluation);
+        if (std::filesystem::exists(out) && std::filesystem::equivalent(out, casePath)) {
+            throw InputError("'" + out + "' is the case itself: not overwritten");
+        }
+        io::writeCase(one, out);
+        say(format("wrote evaluation %d as '%s' (its description says what the optimizer saw); solve it with: "
+                   "aeroform-cli flow %s",
+                   evaluation, out.c_str(), out.c_str()));
+        return kOk;
+    });
+}
+
+}  // namespace
 
 int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json, bool quiet) {
     return guarded("optimize", [&] {

@@ -137,21 +137,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             }
             if (!casesDir.empty() && ev.model()) {
                 // The design as a case of its own (values by name; outputs dropped).
-                io::CaseFile one = c;
-                one.values.clear();
-                const auto& vars = ev.model()->design().variables();
-                for (std::size_t i = 0; i < v.size(); ++i) {
-                    if (v[i] != vars[i].baseline) one.values[vars[i].name] = v[i];
-                }
-                one.description = "design '" + row.label + "' of aeroform-cli sweep " + casePath;
-                one.outputGeometry.clear();
-                one.outputVtk.clear();
-                one.outputMeshVtk.clear();
-                one.outputControlVtk.clear();
-                one.outputPlot3d.clear();
-                one.outputFlowVtk.clear();
-                one.outputResidualCsv.clear();
-                one.outputRestart.clear();
+                const io::CaseFile one = ev.designCase(v, std::nullopt, "design '" + row.label + "' of aeroform-cli sweep " + casePath);
                 std::string file = row.label;
                 std::replace(file.begin(), file.end(), ' ', '_');
                 std::filesystem::create_directories(casesDir);

@@ -18,6 +18,7 @@
 #include <atomic>
 #include <complex>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -77,8 +78,15 @@ struct ModeReport {
     std::string failure;          // non-empty: a GMRES solve failed (the modes are then partial)
     /// The fastest-growing converged mode, or null.
     const FlowMode* growing() const { return !modes.empty() && modes.front().grows() ? &modes.front() : nullptr; }
-    /// Its rate, 0 when none grows (the sweep's and the optimizer history's growing_mode_rate).
-    double growthRate() const { return growing() ? growing()->rate.real() : 0.0; }
+    /// Whether the analysis has a verdict: a growing mode, or converged modes without a failed
+    /// solve (none grows). A failed GMRES solve or no converged Ritz pair says nothing.
+    bool conclusive() const { return growing() != nullptr || (failure.empty() && !modes.empty()); }
+    /// Its rate, 0 when none grows, NaN without a verdict (the sweep's and the optimizer
+    /// history's growing_mode_rate, empty then).
+    double growthRate() const {
+        if (growing()) return growing()->rate.real();
+        return conclusive() ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+    }
 };
 
 /// Where a mode vector (5 values per node) lives: its `count` largest nodes by |v|^2, largest

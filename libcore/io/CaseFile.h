@@ -101,6 +101,9 @@ struct OptimizationCase {
     std::string warmStartFallback = "continuation";  // after a warm start stalls: "continuation"
                                        // (free stream, then the dissipation continuation),
                                        // "free_stream", or "none" (a failed evaluation at once)
+    bool stallModes = false;           // a step from an accepted design whose flow does not converge
+                                       // runs the mode analysis (flow.stall_modes) too; the first
+                                       // evaluation follows flow.stall_modes
     bool liftConstraint = false;       // CL = targetCL (e.g. minimum drag at a fixed lift)
     double targetCL = 0;
     std::string history;               // evaluation history (.csv; the .jsonl beside it is what

@@ -391,6 +391,13 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                               "evaluation at once, so the optimizer cuts the step (a stalled warm start from a "
                               "nearby converged design usually means the step went too far). An evaluation "
                               "without a warm start (the first) always takes the whole ladder"));
+        o.push_back(boolean<O>("stall_modes", [](O& c) -> bool& { return c.stallModes; },
+                               "a step from an accepted design whose flow does not converge also looks for the "
+                               "flow's growing modes (flow.stall_modes: about a minute at 98k nodes, more than an "
+                               "accepted evaluation and its gradient take); off, the step is cut with the stall's "
+                               "place and local Mach number, and aeroform-cli optimize --design N writes the "
+                               "design as a case for aeroform-cli flow to analyse. The first evaluation follows "
+                               "flow.stall_modes"));
         o.push_back(boolean<O>("lift_constraint", [](O& c) -> bool& { return c.liftConstraint; },
                                "keep CL equal to target_cl (with its exact gradient)"));
         o.push_back(real<O>("target_cl", "", -100, true, 100, true, [](O& c) -> double& { return c.targetCL; },

@@ -175,6 +175,31 @@ CaseEvaluator::~CaseEvaluator() = default;
 
 int CaseEvaluator::variableCount() const { return model_ ? model_->design().size() : 0; }
 
+io::CaseFile CaseEvaluator::designCase(const std::vector<double>& v, std::optional<double> alphaDeg,
+                                      const std::string& description) const {
+    if (static_cast<int>(v.size()) != variableCount()) {
+        throw CaseError(format("'%s': a design of %zu values for %d design variables", case_.path.c_str(), v.size(),
+                               variableCount()));
+    }
+    io::CaseFile one = case_;
+    one.values.clear();
+    if (model_) {
+        const auto& vars = model_->design().variables();
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            if (v[i] != vars[i].baseline) one.values[vars[i].name] = v[i];
+        }
+    }
+    if (alphaDeg) one.flow.freeStream.alphaDeg = *alphaDeg;
+    one.description = description;
+    for (std::string* out : {&one.outputGeometry, &one.outputVtk, &one.outputMeshVtk, &one.outputControlVtk,
+                             &one.outputPlot3d, &one.outputFlowVtk, &one.outputResidualCsv, &one.outputRestart,
+                             &one.outputWallPressure}) {
+        out->clear();
+    }
+    one.optimization = io::OptimizationCase{};
+    return one;
+}
+
 std::vector<ffd::LinearConstraint> CaseEvaluator::linearConstraints() const {
     std::vector<ffd::LinearConstraint> out;
     if (!model_) return out;
@@ -651,7 +676,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             why += format("; the residual was still falling (by a factor of %.3g over the last %d iterations): more "
                           "flow.max_iterations, or continuing from the restart file, should converge it",
                           falling, kStillFallingWindow);
-        } else if (case_.flow.stallModes && (f->report.status == flow::FlowStatus::Stalled ||
+        } else if (request.stallModes.value_or(case_.flow.stallModes) && (f->report.status == flow::FlowStatus::Stalled ||
                                              f->report.status == flow::FlowStatus::MaxIterations)) {
             why += stallModes(*f, mach, say, cancel);
         }
@@ -736,7 +761,10 @@ std::string CaseEvaluator::stallModes(FlowResult& f, const std::vector<double>& 
         f.modeAt = locate(f.mesh, f.x, g->node, mach[static_cast<std::size_t>(g->node)]);
         return "; " + describeMode(*g, f.modeAt);
     }
-    if (!f.modes.failure.empty() || f.modes.modes.empty()) return {};
+    if (!f.modes.conclusive()) {
+        return format("; the mode analysis has no verdict (%s)",
+                      f.modes.failure.empty() ? "no Ritz value converged" : f.modes.failure.c_str());
+    }
     return format("; no mode of the linearized flow grows at the final state (%zu slowest checked, the slowest decays at "
                   "%.2g per CFL-1 step): a steady state may exist that the solver's path missed (flow.grid_sequencing, "
                   "or a warm start from a nearby converged design, may reach it)",

@@ -101,6 +101,8 @@ struct EvaluationRequest {
     std::optional<bool> sequencing;  // without a warm start: first solve on coarser samplings of
                                      // the grid (unset: the case's flow.grid_sequencing; either way
                                      // only from flow.sequencing_nodes nodes on)
+    std::optional<bool> stallModes;  // a solve that does not converge looks for its growing modes
+                                     // (unset: the case's flow.stall_modes)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
     std::optional<double> alphaDeg;  // the angle of attack (unset: the case's flow.alpha)
     std::string checkpointFile;      // non-empty: during the flow solve (the full grid's), the state
@@ -246,6 +248,13 @@ public:
     int variableCount() const;
     /// The case's own design values (its "values", baseline elsewhere).
     const std::vector<double>& caseValues() const { return caseValues_; }
+    /// Design v (variableCount() values) as a case of its own: the case with v as its values
+    /// (by name; those at their baseline left out), `alphaDeg` as flow.alpha when given, this
+    /// description, and no outputs and no optimization section (so running it writes nothing
+    /// over the study it came from). For `aeroform-cli flow` on a design of a sweep or of an
+    /// optimization's history. Throws CaseError when v has the wrong size.
+    io::CaseFile designCase(const std::vector<double>& v, std::optional<double> alphaDeg,
+                            const std::string& description) const;
     /// The baseline control grid and its grid (extruded on first use, then kept).
     const mesh::MultiBlockMesh& baselineMesh();
     /// The baseline grid x = N b, one block each (generated on first use, then kept).

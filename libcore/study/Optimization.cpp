@@ -329,6 +329,18 @@ private:
     std::map<int, OptimizationRecord> values_;
 };
 
+// The optimizer's variable i is design variable i divided by this (optimization.variable_scaling).
+std::vector<double> variableScales(const io::OptimizationCase& oc, const std::vector<ffd::DesignVariable>& vars) {
+    std::vector<double> scale(vars.size());
+    for (std::size_t i = 0; i < vars.size(); ++i) {
+        scale[i] = oc.rangeScaling && vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
+    }
+    return scale;
+}
+
+// ... and its alpha, the angle of attack divided by this (degrees per unit).
+double alphaScale(const io::OptimizationCase& oc) { return oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0; }
+
 }  // namespace
 
 bool hasConvergedFlow(const OptimizationRecord& r) {
@@ -376,6 +388,41 @@ std::vector<OptimizationRecord> readHistory(const std::string& jsonl) {
     return records;
 }
 
+io::CaseFile evaluationCase(const CaseEvaluator& ev, int evaluation) {
+    const io::CaseFile& c = ev.caseFile();
+    if (!c.optimization.present) throw CaseError("'" + c.path + "': the case has no \"optimization\" section");
+    if (!ev.model() || ev.variableCount() == 0) throw CaseError("'" + c.path + "': the case has no design variables");
+    const std::string jsonl = historyJsonlPath(c.optimization.history);
+    if (!fs::exists(jsonl)) throw InputError("'" + jsonl + "': the case's optimization history does not exist (not run yet?)");
+    const OptimizationRecord* found = nullptr;
+    int last = 0;
+    const std::vector<OptimizationRecord> records = readHistory(jsonl);
+    for (const OptimizationRecord& r : records) {
+        if (r.kind != Kind::Values) continue;
+        last = std::max(last, r.index);
+        if (r.index == evaluation) found = &r;  // the last one: a resume that left its path rewrote it
+    }
+    if (!found) {
+        throw CaseError(format("'%s': the history has no evaluation %d (it has %d)", jsonl.c_str(), evaluation, last));
+    }
+    const std::vector<ffd::DesignVariable>& vars = ev.model()->design().variables();
+    const std::vector<double> scale = variableScales(c.optimization, vars);
+    const std::size_t nv = vars.size();
+    if (found->x.size() != nv + (c.optimization.alphaVariable ? 1 : 0)) {
+        throw InputError(format("'%s': evaluation %d has %zu variables, the case %zu%s: the history belongs to another "
+                                "problem",
+                                jsonl.c_str(), evaluation, found->x.size(), nv,
+                                c.optimization.alphaVariable ? " and alpha" : ""));
+    }
+    std::vector<double> v(nv);
+    for (std::size_t i = 0; i < nv; ++i) v[i] = found->x[i] * scale[i];
+    const double alpha = c.optimization.alphaVariable ? found->x[nv] * alphaScale(c.optimization) : c.flow.freeStream.alphaDeg;
+    std::string what = found->ok ? format("%s %.8g", c.optimization.objective.c_str(), found->J)
+                                 : found->status + ": " + found->message;
+    return ev.designCase(v, alpha, format("evaluation %d of the optimization of %s (%s)", evaluation, c.path.c_str(),
+                                          what.c_str()));
+}
+
 OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::CaseFile& c = ev.caseFile();
@@ -405,21 +452,20 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     const int nv = static_cast<int>(vars.size());
     const bool withAlpha = oc.alphaVariable;
     const int n = nv + (withAlpha ? 1 : 0);
-    std::vector<double> scale(nv);
+    const std::vector<double> scale = variableScales(oc, vars);
     OptimizationSummary summary;
     optimize::Problem p;
     for (int i = 0; i < nv; ++i) {
-        scale[i] = oc.rangeScaling && vars[i].upper > vars[i].lower ? vars[i].upper - vars[i].lower : 1.0;
         p.lower.push_back(vars[i].lower / scale[i]);
         p.upper.push_back(vars[i].upper / scale[i]);
         p.start.push_back(ev.caseValues()[i] / scale[i]);
         summary.names.push_back(vars[i].name);
     }
-    const double alphaScale = oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0;  // degrees per unit
+    const double alphaUnit = alphaScale(oc);
     if (withAlpha) {
-        p.lower.push_back(oc.alphaLower / alphaScale);
-        p.upper.push_back(oc.alphaUpper / alphaScale);
-        p.start.push_back(c.flow.freeStream.alphaDeg / alphaScale);
+        p.lower.push_back(oc.alphaLower / alphaUnit);
+        p.upper.push_back(oc.alphaUpper / alphaUnit);
+        p.start.push_back(c.flow.freeStream.alphaDeg / alphaUnit);
         summary.names.push_back("alpha");
     }
     auto design = [&](const std::vector<double>& u) {
@@ -427,7 +473,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         for (int i = 0; i < nv; ++i) v[i] = u[i] * scale[i];
         return v;
     };
-    auto alphaOf = [&](const std::vector<double>& u) { return withAlpha ? u[nv] * alphaScale : c.flow.freeStream.alphaDeg; };
+    auto alphaOf = [&](const std::vector<double>& u) { return withAlpha ? u[nv] * alphaUnit : c.flow.freeStream.alphaDeg; };
 
     for (const ffd::LinearConstraint& lc : ev.linearConstraints()) {
         optimize::LinearRow r;
@@ -667,6 +713,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             // warm start may try before the evaluation fails and the optimizer cuts the step.
             req.coldRetry = oc.warmStartFallback != "none";
             req.dissipationRetry = oc.warmStartFallback == "continuation";
+            req.stallModes = c.flow.stallModes && oc.stallModes;
         }
         return std::make_shared<Evaluation>(ev.evaluate(design(u), req, o.progress, o.cancel));
     };
@@ -850,7 +897,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 const FunctionalGradient& fo = *g.find(oc.objective);
                 r.dObjective.assign(n, 0.0);
                 for (int i = 0; i < nv; ++i) r.dObjective[i] = sign * fo.dv[i] * scale[i];
-                if (withAlpha) r.dObjective[nv] = sign * fo.dalpha * alphaScale;
+                if (withAlpha) r.dObjective[nv] = sign * fo.dalpha * alphaUnit;
                 if (volumeConstraint) {
                     const std::vector<double> dV = model.volumeGradient(design(u));
                     std::vector<double> row(n, 0.0);
@@ -861,7 +908,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                     const FunctionalGradient& fl = *g.find("CL");
                     std::vector<double> row(n, 0.0);
                     for (int i = 0; i < nv; ++i) row[i] = fl.dv[i] * scale[i];
-                    if (withAlpha) row[nv] = fl.dalpha * alphaScale;
+                    if (withAlpha) row[nv] = fl.dalpha * alphaUnit;
                     r.dConstraints.push_back(row);
                 }
                 if (gridConstraint) {

@@ -106,6 +106,14 @@ struct OptimizationSummary {
 /// another problem. Failed evaluations are not errors: the optimizer cuts its step.
 OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o = {});
 
+/// Evaluation `evaluation` (1-based, as the history numbers it) of the case's optimization
+/// history as a case of its own (CaseEvaluator::designCase: its design values and angle of
+/// attack, its objective or failure in the description), for `aeroform-cli flow` to solve or
+/// analyse again (`aeroform-cli optimize --design`). Throws InputError for a missing or unreadable
+/// history or one of another problem, CaseError when it has no such evaluation (naming how many
+/// it has).
+io::CaseFile evaluationCase(const CaseEvaluator& ev, int evaluation);
+
 /// The JSON-lines history beside a CSV history path (".csv" -> ".jsonl").
 std::string historyJsonlPath(const std::string& csv);
 

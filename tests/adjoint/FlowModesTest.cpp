@@ -185,9 +185,19 @@ TEST(FlowModes, ASolveThatDoesNotConvergeGetsTheModeAnalysisInItsReason) {
             EXPECT_NE(e.message.find(f.modeAt.blockName), std::string::npos) << e.message;
             EXPECT_EQ(f.modeAt.block >= 0, true);
             EXPECT_GT(g->rate.real(), 0);
-        } else if (f.modes.failure.empty()) {
+        } else if (f.modes.conclusive()) {
             EXPECT_NE(e.message.find("no mode of the linearized flow grows"), std::string::npos) << e.message;
+        } else {
+            EXPECT_NE(e.message.find("the mode analysis has no verdict"), std::string::npos) << e.message;
         }
+        // A request overrides the case (an optimizer's step: optimization.stall_modes).
+        study::EvaluationRequest off;
+        off.stallModes = false;
+        const study::Evaluation o = ev.evaluate(ev.caseValues(), off);
+        ASSERT_EQ(o.status, study::EvaluationStatus::FlowNotConverged);
+        EXPECT_FALSE(o.flow->modesChecked);
+        EXPECT_EQ(o.message.find("pseudo time"), std::string::npos) << o.message;
+        EXPECT_EQ(o.message.find("mode analysis"), std::string::npos) << o.message;
     }
     c.flow.stallModes = false;
     study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
@@ -195,4 +205,30 @@ TEST(FlowModes, ASolveThatDoesNotConvergeGetsTheModeAnalysisInItsReason) {
     ASSERT_EQ(e.status, study::EvaluationStatus::FlowNotConverged);
     EXPECT_FALSE(e.flow->modesChecked);
     EXPECT_EQ(e.message.find("pseudo time"), std::string::npos) << e.message;
+    study::EvaluationRequest on;
+    on.stallModes = true;
+    const study::Evaluation checked = ev.evaluate(ev.caseValues(), on);
+    EXPECT_TRUE(checked.flow->modesChecked);
+}
+
+// A mode analysis has a verdict only when it found a growing mode, or converged modes without a
+// failed solve; otherwise its growth rate is NaN (empty in the sweep's and the optimizer's
+// records), not the 0 of "none grows".
+TEST(FlowModes, AnAnalysisWithoutAVerdictHasNoGrowthRate) {
+    adjoint::ModeReport r;
+    EXPECT_FALSE(r.conclusive());
+    EXPECT_TRUE(std::isnan(r.growthRate()));
+    adjoint::FlowMode decaying;
+    decaying.rate = {-0.01, 0.0};
+    r.modes.push_back(decaying);
+    EXPECT_TRUE(r.conclusive());
+    EXPECT_EQ(r.growthRate(), 0.0);
+    r.failure = "GMRES reached only 0.1 in 60 iterations";
+    EXPECT_FALSE(r.conclusive());
+    EXPECT_TRUE(std::isnan(r.growthRate()));
+    adjoint::FlowMode growing;
+    growing.rate = {0.004, 0.01};
+    r.modes.insert(r.modes.begin(), growing);
+    EXPECT_TRUE(r.conclusive());  // a growing mode found before the failure still counts
+    EXPECT_EQ(r.growthRate(), 0.004);
 }

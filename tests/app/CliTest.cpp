@@ -942,4 +942,30 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
 
     r = run("optimize '" + killed + "' --fresh --resume");
     EXPECT_EQ(r.code, 2);
+
+    // An evaluation of the history as a case of its own (--design): the recorded design, without
+    // outputs or optimization section, which the other commands run.
+    const std::string design = tmp("opt_whole_evaluation2.json");
+    r = run("optimize '" + whole + "' --design 2 '" + design + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json d = nlohmann::json::parse(slurp(design));
+    EXPECT_FALSE(d.contains("optimization"));
+    EXPECT_FALSE(d.contains("output"));
+    EXPECT_NE(d["description"].get<std::string>().find("evaluation 2 of the optimization of"), std::string::npos) << d.dump();
+    EXPECT_FALSE(d["values"].empty());
+    r = run("deform '" + design + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const nlohmann::json& rec : wholeRecords) {
+        if (rec["kind"] == "values" && rec["evaluation"] == 2) {
+            EXPECT_NEAR(nlohmann::json::parse(r.out)["volume"].get<double>(), rec["volume"].get<double>(), 1e-12);
+        }
+    }
+    r = run("optimize '" + whole + "' --design 99 '" + design + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("has no evaluation 99 (it has "), std::string::npos) << r.err;
+    r = run("optimize '" + whole + "' --design 1 '" + whole + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("is the case itself"), std::string::npos) << r.err;
+    EXPECT_EQ(run("optimize '" + whole + "' --design x '" + design + "'").code, 2);
+    EXPECT_EQ(run("optimize '" + whole + "' --design 2").code, 2);
 }
