@@ -6,8 +6,10 @@
 // boxed run whose iterate sits on the box and gains less than kBoxProgress of its objective in
 // one iteration is restarted so at once: SLSQP would otherwise converge on the box's face in
 // many tiny steps (the 98k sphere-to-wing run: eight evaluations gaining 0.1 % in all).
-// SLSQP asks for the gradient with every evaluation, so
-// every point it evaluates counts as an iteration of the common report.
+// NLopt 2.7's SLSQP asks for the gradient with the first trial point of every line search (its
+// shortcut for the usual case that the full step is taken) and at a later trial it accepts, not
+// at the trials in between; every point it asks the gradient of counts as an iteration of the
+// common report (a rejected first trial too: its objective is then worse than the last).
 #include <nlopt.hpp>
 #include <algorithm>
 #include <cmath>
