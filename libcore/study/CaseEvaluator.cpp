@@ -666,7 +666,12 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                           m.spacingJump.node[1], m.spacingJump.node[2]);
         }
         if (f->maxMach.value > 1.0) {
-            why += format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
+            // Past 10 it is no flow: pressure or density has collapsed to nearly zero there (a
+            // state that was diverging; a 98k stall read "reaches 6558844.26"), not an expansion.
+            why += f->maxMach.value > 10.0
+                       ? format("; pressure or density is nearly zero at %s (local Mach number %.2g): the solve was diverging",
+                                describe(f->maxMach).c_str(), f->maxMach.value)
+                       : format("; the local Mach number reaches %.2f at %s", f->maxMach.value, describe(f->maxMach).c_str());
         }
         if (m.wallBend.degrees > kWallBendWarning) why += "; " + describeWallBend(m.wallBend);
         const double falling = stillFalling(f->report);
