@@ -101,6 +101,8 @@ struct OptimizationCase {
     std::string warmStartFallback = "continuation";  // after a warm start stalls: "continuation"
                                        // (free stream, then the dissipation continuation),
                                        // "free_stream", or "none" (a failed evaluation at once)
+    int warmStartIterations = 80;      // a step's warm start that has not converged after this many
+                                       // flow iterations fails like a stall (0: flow.max_iterations)
     bool stallModes = false;           // a step from an accepted design whose flow does not converge
                                        // runs the mode analysis (flow.stall_modes) too; the first
                                        // evaluation follows flow.stall_modes

@@ -391,6 +391,12 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                               "evaluation at once, so the optimizer cuts the step (a stalled warm start from a "
                               "nearby converged design usually means the step went too far). An evaluation "
                               "without a warm start (the first) always takes the whole ladder"));
+        o.push_back(integer<O>("warm_start_iterations", 0, 1000000, [](O& c) -> int& { return c.warmStartIterations; },
+                               "a step from an accepted design whose warm start has not converged after this many flow "
+                               "iterations fails as a stalled one does (then warm_start_fallback applies): a warm "
+                               "start from a converged neighbour converges in 5-40 iterations on the 98k path, and "
+                               "one that needs more crawls towards a nearly singular state (2 % per iteration) for "
+                               "up to flow.max_iterations; 0: flow.max_iterations"));
         o.push_back(boolean<O>("stall_modes", [](O& c) -> bool& { return c.stallModes; },
                                "a step from an accepted design whose flow does not converge also looks for the "
                                "flow's growing modes (flow.stall_modes: about a minute at 98k nodes, more than an "

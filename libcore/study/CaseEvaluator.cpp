@@ -508,9 +508,14 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             lastCheckpoint = std::chrono::steady_clock::now();
         };
     }
-    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+    flow::NewtonOptions first = no;
+    const bool warmCapped = f->warmStarted && request.warmIterations && *request.warmIterations < no.maxIterations;
+    if (warmCapped) first.maxIterations = std::max(1, *request.warmIterations);
+    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, first, onIteration(false), cancel, checkpoint);
     const flow::FlowStatus st = f->report.status;
-    const bool failed = st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber;
+    // A warm start cut by the request's budget failed as a stall does (the retries have the case's).
+    const bool failed = st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber ||
+                        (warmCapped && st == flow::FlowStatus::MaxIterations);
     if (f->warmStarted && request.coldRetry && failed) {
         // The neighbour's state can sit in the basin of another branch after a large design step
         // (the optimizer's 98k evaluation 13: warm, stalled at 2e-2; cold with the switch
@@ -675,7 +680,16 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         }
         if (m.wallBend.degrees > kWallBendWarning) why += "; " + describeWallBend(m.wallBend);
         const double falling = stillFalling(f->report);
-        if (falling > 0) {
+        if (warmCapped && f->warmStarted && f->report.status == flow::FlowStatus::MaxIterations) {
+            // A step from a converged neighbour converges in 5-40 iterations; one that needs more
+            // is crawling (2 % per iteration on the 98k sphere-to-wing path: a nearly singular
+            // Newton matrix), and the optimizer is better off with a shorter step.
+            why += format("; the warm start's budget of %d iterations (optimization.warm_start_iterations) is spent%s",
+                          first.maxIterations,
+                          falling > 0 ? format(" while it crawls (a factor of %.3g over the last %d iterations)", falling,
+                                               kStillFallingWindow).c_str()
+                                      : "");
+        } else if (falling > 0) {
             // Stopped by the iteration limit while converging: nothing is wrong with the flow, and
             // a mode analysis (about 30 GMRES solves) would look for a cause that is not there.
             why += format("; the residual was still falling (by a factor of %.3g over the last %d iterations): more "

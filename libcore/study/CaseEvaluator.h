@@ -101,6 +101,9 @@ struct EvaluationRequest {
     std::optional<bool> sequencing;  // without a warm start: first solve on coarser samplings of
                                      // the grid (unset: the case's flow.grid_sequencing; either way
                                      // only from flow.sequencing_nodes nodes on)
+    std::optional<int> warmIterations;  // a warm start stops after this many iterations (then
+                                        // the retries follow as after a stall; unset:
+                                        // flow.max_iterations)
     std::optional<bool> stallModes;  // a solve that does not converge looks for its growing modes
                                      // (unset: the case's flow.stall_modes)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)

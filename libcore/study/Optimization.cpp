@@ -714,6 +714,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             req.coldRetry = oc.warmStartFallback != "none";
             req.dissipationRetry = oc.warmStartFallback == "continuation";
             req.stallModes = c.flow.stallModes && oc.stallModes;
+            if (oc.warmStartIterations > 0) req.warmIterations = oc.warmStartIterations;
         }
         return std::make_shared<Evaluation>(ev.evaluate(design(u), req, o.progress, o.cancel));
     };

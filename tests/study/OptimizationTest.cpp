@@ -256,7 +256,42 @@ TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
     EXPECT_GT(cold.flowIterations, 5);
 }
 
-// A resumed run that leaves its recorded path (here: gradient 2's recorded objective row changed,
+// A step whose warm start has not converged within optimization.warm_start_iterations fails as a
+// stalled one does (here with no fallback: the step is cut), with the budget named; within the
+// default budget the same step converges.
+TEST(Optimization, AWarmStartBeyondItsBudgetIsAFailedStep) {
+    auto secondEvaluation = [](int budget) {
+        const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/warm_budget_" + std::to_string(budget);
+        io::CaseFile c = shortRun(dir, 3, 2);
+        c.optimization.warmStartFallback = "none";
+        c.optimization.warmStartIterations = budget;
+        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+        study::OptimizationOptions o;
+        o.fresh = true;
+        std::vector<study::OptimizationRecord> values;
+        o.onRecord = [&](const study::OptimizationRecord& r) {
+            if (r.kind == study::OptimizationRecord::Kind::Values) values.push_back(r);
+        };
+        (void)study::optimizeCase(ev, o);
+        EXPECT_EQ(values.size(), 2u);
+        EXPECT_TRUE(!values.empty() && values[0].ok);
+        return values.size() == 2 ? values[1] : study::OptimizationRecord{};
+    };
+    const study::OptimizationRecord cut = secondEvaluation(2);
+    EXPECT_FALSE(cut.ok);
+    EXPECT_EQ(cut.status, "flow-not-converged");
+    EXPECT_EQ(cut.flowIterations, 2);
+    EXPECT_NE(cut.message.find("the warm start's budget of 2 iterations (optimization.warm_start_iterations) is spent"),
+              std::string::npos)
+        << cut.message;
+    EXPECT_EQ(cut.message.find("more flow.max_iterations"), std::string::npos) << cut.message;
+    const study::OptimizationRecord within = secondEvaluation(io::OptimizationCase{}.warmStartIterations);
+    EXPECT_TRUE(within.ok) << within.message;
+    EXPECT_GT(within.flowIterations, 2);
+    EXPECT_LE(within.flowIterations, io::OptimizationCase{}.warmStartIterations);
+}
+
+// A resumed run that leaves its recorded path// A resumed run that leaves its recorded path (here: gradient 2's recorded objective row changed,
 // as another build's round-off would, so SLSQP asks for another third point) goes on from
 // evaluation 2; its flow state was removed (only the newest two are kept), so the next flow
 // starts from the newest state left, a nearby converged flow, not from the free stream.
