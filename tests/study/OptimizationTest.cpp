@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 
@@ -55,6 +56,29 @@ io::CaseFile shortRun(const std::string& dir, int maxIterations, int maxEvaluati
     c.optimization.maxIterations = maxIterations;
     c.optimization.maxEvaluations = maxEvaluations;
     return c;
+}
+
+// The second evaluation of a short SLSQP run (3 iterations, 2 evaluations) of the small sample in
+// output folder `name`, the case changed by `configure` first, `onValues` called on each
+// evaluation's record as it is recorded (with the evaluator, e.g. to replace its warm state).
+study::OptimizationRecord secondOfTwo(
+    const std::string& name, const std::function<void(io::CaseFile&)>& configure,
+    const std::function<void(study::CaseEvaluator&, const study::OptimizationRecord&)>& onValues = {}) {
+    io::CaseFile c = shortRun(std::string(AEROFORM_TEST_OUTPUT_DIR) + "/" + name, 3, 2);
+    configure(c);
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.fresh = true;
+    std::vector<study::OptimizationRecord> values;
+    o.onRecord = [&](const study::OptimizationRecord& r) {
+        if (r.kind != study::OptimizationRecord::Kind::Values) return;
+        values.push_back(r);
+        if (onValues) onValues(ev, r);
+    };
+    (void)study::optimizeCase(ev, o);
+    EXPECT_EQ(values.size(), 2u);
+    EXPECT_TRUE(!values.empty() && values[0].ok);
+    return values.size() == 2 ? values[1] : study::OptimizationRecord{};
 }
 
 }  // namespace
@@ -226,22 +250,10 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
 // evaluation with the reason, "free_stream" solves it again from the free stream and converges.
 TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
     auto secondEvaluation = [](const std::string& fallback) {
-        const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/warm_fallback_" + fallback;
-        io::CaseFile c = shortRun(dir, 3, 2);
-        c.optimization.warmStartFallback = fallback;
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
-        study::OptimizationOptions o;
-        o.fresh = true;
-        std::vector<study::OptimizationRecord> values;
-        o.onRecord = [&](const study::OptimizationRecord& r) {
-            if (r.kind != study::OptimizationRecord::Kind::Values) return;
-            values.push_back(r);
-            if (r.ok) ev.setWarmStart(std::vector<double>(ev.lastConvergedState().size(), 0.0));
-        };
-        (void)study::optimizeCase(ev, o);
-        EXPECT_EQ(values.size(), 2u);
-        EXPECT_TRUE(!values.empty() && values[0].ok);
-        return values.size() == 2 ? values[1] : study::OptimizationRecord{};
+        return secondOfTwo("warm_fallback_" + fallback, [&](io::CaseFile& c) { c.optimization.warmStartFallback = fallback; },
+                           [](study::CaseEvaluator& ev, const study::OptimizationRecord& r) {
+                               if (r.ok) ev.setWarmStart(std::vector<double>(ev.lastConvergedState().size(), 0.0));
+                           });
     };
     const study::OptimizationRecord none = secondEvaluation("none");
     EXPECT_FALSE(none.ok);
@@ -261,21 +273,10 @@ TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
 // default budget the same step converges.
 TEST(Optimization, AWarmStartBeyondItsBudgetIsAFailedStep) {
     auto secondEvaluation = [](int budget) {
-        const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/warm_budget_" + std::to_string(budget);
-        io::CaseFile c = shortRun(dir, 3, 2);
-        c.optimization.warmStartFallback = "none";
-        c.optimization.warmStartIterations = budget;
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
-        study::OptimizationOptions o;
-        o.fresh = true;
-        std::vector<study::OptimizationRecord> values;
-        o.onRecord = [&](const study::OptimizationRecord& r) {
-            if (r.kind == study::OptimizationRecord::Kind::Values) values.push_back(r);
-        };
-        (void)study::optimizeCase(ev, o);
-        EXPECT_EQ(values.size(), 2u);
-        EXPECT_TRUE(!values.empty() && values[0].ok);
-        return values.size() == 2 ? values[1] : study::OptimizationRecord{};
+        return secondOfTwo("warm_budget_" + std::to_string(budget), [&](io::CaseFile& c) {
+            c.optimization.warmStartFallback = "none";
+            c.optimization.warmStartIterations = budget;
+        });
     };
     const study::OptimizationRecord cut = secondEvaluation(2);
     EXPECT_FALSE(cut.ok);
@@ -291,7 +292,7 @@ TEST(Optimization, AWarmStartBeyondItsBudgetIsAFailedStep) {
     EXPECT_LE(within.flowIterations, io::OptimizationCase{}.warmStartIterations);
 }
 
-// A resumed run that leaves its recorded path// A resumed run that leaves its recorded path (here: gradient 2's recorded objective row changed,
+// A resumed run that leaves its recorded path (here: gradient 2's recorded objective row changed,
 // as another build's round-off would, so SLSQP asks for another third point) goes on from
 // evaluation 2; its flow state was removed (only the newest two are kept), so the next flow
 // starts from the newest state left, a nearby converged flow, not from the free stream.
