@@ -391,7 +391,7 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                               "evaluation at once, so the optimizer cuts the step (a stalled warm start from a "
                               "nearby converged design usually means the step went too far). An evaluation "
                               "without a warm start (the first) always takes the whole ladder"));
-        o.push_back(integer<O>("warm_start_iterations", 0, 1000000, [](O& c) -> int& { return c.warmStartIterations; },
+        o.push_back(integer<O>("warm_start_iterations", 0, 100000, [](O& c) -> int& { return c.warmStartIterations; },
                                "a step from an accepted design whose warm start has not converged after this many flow "
                                "iterations fails as a stalled one does (then warm_start_fallback applies): a warm "
                                "start from a converged neighbour converges in 5-40 iterations on the 98k path, and "
