@@ -83,7 +83,22 @@ std::vector<std::string> writeConvergencePlots(const study::OptimizationSummary&
     return {objectivePlot, optimalityPlot};
 }
 
-int writeEvaluationCase(const std::string& casePath, int evaluation, const std::string& out);
+// `optimize CASE --design N OUT`: evaluation N of the history as a case of its own.
+int writeEvaluationCase(const std::string& casePath, int evaluation, const std::string& out) {
+    return guarded("optimize", [&] {
+        const io::CaseFile c = io::readCase(casePath);
+        const study::CaseEvaluator ev(c, loadPatchSet(c.geometry));
+        const io::CaseFile one = study::evaluationCase(ev, evaluation);
+        if (std::filesystem::exists(out) && std::filesystem::equivalent(out, casePath)) {
+            throw InputError("'" + out + "' is the case itself: not overwritten");
+        }
+        io::writeCase(one, out);
+        say(format("wrote evaluation %d as '%s' (its description says what the optimizer saw); solve it with: "
+                   "aeroform-cli flow %s",
+                   evaluation, out.c_str(), out.c_str()));
+        return kOk;
+    });
+}
 
 }  // namespace
 
@@ -113,26 +128,6 @@ int cmdOptimize(const Args& args) {
     return runOptimize(pos[0], hasFlag(args, "--resume"), hasFlag(args, "--fresh"), hasFlag(args, "--json"),
                        hasFlag(args, "--quiet"));
 }
-
-namespace {
-
-int writeEvaluationCase(const std::string& casePath, int evaluation, const std::string& out) {
-    return guarded("optimize", [&] {
-        const io::CaseFile c = io::readCase(casePath);
-        const study::CaseEvaluator ev(c, loadPatchSet(c.geometry));
-        const io::CaseFile one = study::evaluationCase(ev, evaluation);
-        if (std::filesystem::exists(out) && std::filesystem::equivalent(out, casePath)) {
-            throw InputError("'" + out + "' is the case itself: not overwritten");
-        }
-        io::writeCase(one, out);
-        say(format("wrote evaluation %d as '%s' (its description says what the optimizer saw); solve it with: "
-                   "aeroform-cli flow %s",
-                   evaluation, out.c_str(), out.c_str()));
-        return kOk;
-    });
-}
-
-}  // namespace
 
 int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json, bool quiet) {
     return guarded("optimize", [&] {
