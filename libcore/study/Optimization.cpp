@@ -40,6 +40,9 @@ constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - co
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The status of a converged flow refused by optimization.max_entropy or max_entropy_rise.
 constexpr const char* kUnresolved = "flow-unresolved";
+// Flow states kept on disk for warm starts besides the optimizer's last two iterates: the newest
+// accepted evaluations (a line search's trials, and the design each came from).
+constexpr std::size_t kKeptStates = 6;
 
 // The planform of an evaluated shape for the history (zeros when there is none: a design whose
 // lattice folded before its shape was built, or trimmed patches).
@@ -348,6 +351,26 @@ bool hasConvergedFlow(const OptimizationRecord& r) {
     return r.kind == Kind::Values && (r.ok || (r.status == kUnresolved && r.CD != 0));
 }
 
+int closestWarmStart(const std::vector<WarmCandidate>& candidates, const std::vector<double>& x) {
+    int best = 0, bestOrder = 0;
+    double bestDistance = 0;
+    for (const WarmCandidate& k : candidates) {
+        if (k.x.size() != x.size()) continue;
+        double d = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) d += (k.x[i] - x[i]) * (k.x[i] - x[i]);
+        d = std::sqrt(d);
+        const double tie = 1e-6 * std::max(d, bestDistance);
+        const bool closer = best == 0 || d < bestDistance - tie;
+        const bool asCloseAndOlder = best != 0 && std::abs(d - bestDistance) <= tie && k.evaluation < bestOrder;
+        if (closer || asCloseAndOlder) {
+            best = k.evaluation;
+            bestOrder = k.evaluation;
+            bestDistance = d;
+        }
+    }
+    return best;
+}
+
 const char* recordKindName(Kind k) {
     switch (k) {
         case Kind::Header: return "header";
@@ -638,9 +661,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
 
     auto statePath = [&](int index) { return (stateDir / (std::to_string(index) + ".state")).string(); };
     int evaluations = 0, gradients = 0;
-    int lastOk = 0;                 // the last converged evaluation (its state is the warm start)
-    double lastOkEntropy = 0;       // its largest |s - s_inf| (optimization.max_entropy_rise)
+    int lastOk = 0;                 // the last accepted evaluation
+    std::map<int, double> entropyOf;  // accepted evaluation -> its largest |s - s_inf|
+                                      // (optimization.max_entropy_rise)
     std::map<int, int> warmFromOf;  // evaluation -> the evaluation its flow started from
+    std::vector<WarmCandidate> warmCandidates;  // accepted evaluations whose state is kept, oldest first
+    int iterate = 0, previousIterate = 0;  // the evaluations at the optimizer's last two iterates
     std::shared_ptr<Evaluation> last;  // the last evaluation run here (for its gradient)
     std::vector<double> lastX;
     bool replaying = !replay.empty();
@@ -673,37 +699,60 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             csv.rewrite(kept);
             replay.clear();
         }
-        if (lastOk > 0) {
-            std::vector<double> q = io::readWarmState(statePath(lastOk));
-            if (q.empty()) {
-                // Its state was not kept (only the newest two are): the newest state left on
-                // this grid is a nearby converged flow, a better start than the free stream.
-                int newest = 0;
-                for (const auto& entry : fs::directory_iterator(stateDir)) {
-                    if (entry.path().extension() != ".state") continue;
-                    const int k = std::atoi(entry.path().stem().string().c_str());
-                    if (k <= newest) continue;
-                    std::vector<double> other = io::readWarmState(entry.path().string());
-                    if (other.empty()) continue;
-                    newest = k;
-                    q = std::move(other);
-                }
-                if (newest > 0) {
-                    say(format("evaluation %d's flow state was not kept: the next flow starts from that of the discarded "
-                               "evaluation %d",
-                               lastOk, newest));
-                }
+    };
+    // An accepted evaluation's state joins the candidates; the oldest beyond kKeptStates go (their
+    // files too), except the optimizer's last two iterates. The same happens when a resumed run
+    // replays the record, so the candidates, and with them every warm start, are the same.
+    auto keepState = [&](int index, const std::vector<double>& u) {
+        warmCandidates.push_back({index, u});
+        std::size_t extra = warmCandidates.size() > kKeptStates ? warmCandidates.size() - kKeptStates : 0;
+        for (auto k = warmCandidates.begin(); extra > 0 && k != warmCandidates.end();) {
+            if (k->evaluation == iterate || k->evaluation == previousIterate) {
+                ++k;
+                continue;
             }
-            ev.setWarmStart(std::move(q));
+            std::error_code ignored;
+            fs::remove(statePath(k->evaluation), ignored);
+            k = warmCandidates.erase(k);
+            --extra;
         }
     };
-    auto keepStates = [&](int newest, int previous) {
-        // Only the newest converged state and the one it started from are needed by a resume.
-        for (const auto& entry : fs::directory_iterator(stateDir)) {
-            const std::string stem = entry.path().stem().string();
-            const int k = std::atoi(stem.c_str());
-            if (k != newest && k != previous) fs::remove(entry.path());
+    // Gives the evaluator the state of the kept evaluation closest to u; returns that evaluation
+    // (0: none, a cold start). A candidate whose file is gone (a history of an older build kept
+    // only the newest two) is dropped; when none is left, the newest state in the folder, a
+    // nearby converged flow of a discarded evaluation, is a better start than the free stream.
+    auto warmStartFor = [&](const std::vector<double>& u) {
+        const bool hadCandidates = !warmCandidates.empty();
+        while (!warmCandidates.empty()) {
+            const int from = closestWarmStart(warmCandidates, u);
+            std::vector<double> q = io::readWarmState(statePath(from));
+            if (!q.empty()) {
+                ev.setWarmStart(std::move(q));
+                return from;
+            }
+            warmCandidates.erase(std::find_if(warmCandidates.begin(), warmCandidates.end(),
+                                              [&](const WarmCandidate& k) { return k.evaluation == from; }));
         }
+        ev.forgetWarmStart();
+        if (!hadCandidates) return 0;
+        int newest = 0;
+        std::vector<double> q;
+        for (const auto& entry : fs::directory_iterator(stateDir)) {
+            if (entry.path().extension() != ".state") continue;
+            const int k = std::atoi(entry.path().stem().string().c_str());
+            if (k <= newest) continue;
+            std::vector<double> other = io::readWarmState(entry.path().string());
+            if (other.empty()) continue;
+            newest = k;
+            q = std::move(other);
+        }
+        if (newest > 0) {
+            say(format("evaluation %d's flow state was not kept: the next flow starts from that of the discarded "
+                       "evaluation %d",
+                       lastOk, newest));
+            ev.setWarmStart(std::move(q));
+        }
+        return newest;
     };
     auto evaluateAt = [&](const std::vector<double>& u) {
         EvaluationRequest req;
@@ -730,7 +779,8 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             if (r.ok) {
                 warmFromOf[r.index] = r.warmFrom;
                 lastOk = r.index;
-                lastOkEntropy = r.maxEntropy;
+                entropyOf[r.index] = r.maxEntropy;
+                keepState(r.index, r.x);
             }
             if (r.warmFrom == 0 && summary.coldFlowIterations == 0) summary.coldFlowIterations = r.flowIterations;
             record(r);
@@ -746,7 +796,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.index = ++evaluations;
         r.x = u;
         r.alphaDeg = alphaOf(u);
-        r.warmFrom = lastOk;
+        r.warmFrom = warmStartFor(u);
         const auto t = std::chrono::steady_clock::now();
         std::shared_ptr<Evaluation> e = evaluateAt(u);
         r.seconds = since(t);
@@ -759,12 +809,14 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         const std::vector<double> v = design(u);
         r.volume = model.volume(v);
         r.planform = planformOf(e->shape);
-        // A converged flow whose entropy error is beyond the case's bound, or that jumped from the
-        // last accepted design's by more than the case allows, is no answer to climb on.
+        // A converged flow whose entropy error is beyond the case's bound, or that jumped from that
+        // of the design it started from by more than the case allows, is no answer to climb on.
         const double entropy = e->ok() ? std::abs(e->flow->maxEntropy.value) : 0.0;
         const bool beyondLevel = e->ok() && oc.maxEntropy > 0 && entropy > oc.maxEntropy;
-        const bool jumped = e->ok() && !beyondLevel && oc.maxEntropyRise > 0 && lastOk > 0 && lastOkEntropy > 0 &&
-                            entropy > oc.maxEntropyRise * lastOkEntropy;
+        const int base = entropyOf.count(r.warmFrom) ? r.warmFrom : 0;  // the design this flow started from
+        const double baseEntropy = base > 0 ? entropyOf[base] : 0.0;
+        const bool jumped = e->ok() && !beyondLevel && oc.maxEntropyRise > 0 && baseEntropy > 0 &&
+                            entropy > oc.maxEntropyRise * baseEntropy;
         const bool unresolved = beyondLevel || jumped;
         r.status = unresolved ? kUnresolved : e->ok() ? "ok" : evaluationStatusName(e->status);
         if (e->mesh && !e->mesh->grids.empty()) r.wallBend = e->mesh->wallBend.degrees;
@@ -803,26 +855,22 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             }
             if (jacobianBound) r.constraints.push_back(jacobianBound->value(v));
             io::writeWarmState(statePath(r.index), e->flow->q);
-            keepStates(r.index, lastOk);
-            warmFromOf[r.index] = lastOk;
+            warmFromOf[r.index] = r.warmFrom;
             lastOk = r.index;
-            lastOkEntropy = entropy;
+            entropyOf[r.index] = entropy;
+            keepState(r.index, u);
             last = e;
             lastX = u;
         } else if (unresolved) {
-            // The evaluator keeps its last converged state for the next warm start: give it back
-            // the last accepted one, so the next step does not start on this flow's branch.
-            if (lastOk > 0) {
-                ev.setWarmStart(io::readWarmState(statePath(lastOk)));
-            } else {
-                ev.forgetWarmStart();
-            }
+            // Not a candidate for warm starts, and the evaluator lets it go too: no later step
+            // starts on this flow's branch.
+            ev.forgetWarmStart();
             const FlowLocation& s = e->flow->maxEntropy;
             const std::string bound =
                 beyondLevel ? format("optimization.max_entropy %.3g", oc.maxEntropy)
-                            : format("%.3g times the %.3g of evaluation %d, the last accepted one; "
+                            : format("%.3g times the %.3g of evaluation %d, the design this flow started from; "
                                      "optimization.max_entropy_rise %.3g",
-                                     entropy / lastOkEntropy, lastOkEntropy, lastOk, oc.maxEntropyRise);
+                                     entropy / baseEntropy, baseEntropy, base, oc.maxEntropyRise);
             r.ok = false;
             r.message = format("the flow converged, but its entropy error |s - s_inf| reaches %.3g (%s) at block %d "
                                "'%s' node (%d, %d, %d) at (%.4g, %.4g, %.4g), %s: %s, not an answer to optimize on "
@@ -836,7 +884,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             r.ok = false;
             r.message = e->message;
             if (e->flow && (e->flow->warmStarted || e->flow->coldRetry()) && oc.warmStartFallback != "continuation") {
-                r.message += format(" (a warm start from evaluation %d; optimization.warm_start_fallback %s: %s)", lastOk,
+                r.message += format(" (a warm start from evaluation %d; optimization.warm_start_fallback %s: %s)", r.warmFrom,
                                     oc.warmStartFallback.c_str(),
                                     oc.warmStartFallback == "none" ? "not solved again, the step is cut"
                                                                    : "no continuation in the dissipation");
@@ -875,14 +923,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         std::shared_ptr<Evaluation> e = last;
         if (!e || !sameBits(lastX, u)) {
             // Not the last evaluation here (e.g. its values were replayed): solve it again from the
-            // state it started from, without disturbing the warm start of the next evaluation.
+            // state it started from (each evaluation sets its own warm start, so nothing is disturbed).
             const OptimizationRecord* v = csv.valuesAt(u);
-            const std::vector<double> keep = ev.lastConvergedState();
-            const int from = v && warmFromOf.count(v->index) ? warmFromOf[v->index] : lastOk;
+            const int from = v && warmFromOf.count(v->index) ? warmFromOf[v->index] : 0;
             if (from > 0) ev.setWarmStart(io::readWarmState(statePath(from)));
             else ev.forgetWarmStart();
             e = evaluateAt(u);
-            ev.setWarmStart(keep);
         }
         if (e->ok() && inverse && !mismatch.targetPressure) (void)objectiveValue(*e->flow);  // values were replayed
         if (!e->ok()) {
@@ -965,6 +1011,10 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.replayed = it.iteration <= recordedIterations;
         record(r);
         const OptimizationRecord* v = csv.valuesAt(it.x);
+        if (v && v->ok && v->index != iterate) {
+            previousIterate = iterate;
+            iterate = v->index;
+        }
         say(format("iteration %.0f: %s %.8g, optimality %.2e, feasibility %.2e, CL %.5f, CD %.5f (%.0f evaluations)%s",
                    static_cast<double>(it.iteration), oc.objective.c_str(), v ? v->J : kNaN, it.optimality, it.feasibility,
                    v ? v->CL : kNaN, v ? v->CD : kNaN, static_cast<double>(it.evaluations), r.replayed ? " [replayed]" : ""));

@@ -11,10 +11,13 @@
 // Every evaluation is appended, as it happens, to the history: `<history>.jsonl` (exact, what
 // --resume replays), `<history>.csv` (per evaluation: status, J, CL, CD, volume, flow and adjoint
 // iterations, times, the design) and `<history stem>_iterations.csv` (per major iteration:
-// objective, optimality, feasibility). Each evaluation's flow starts from the state of the last
-// converged one, which is kept on disk (the last two) so that a resumed run starts its next
-// evaluation from the same state: a run killed at any moment and resumed reaches the same
-// iterates, bit for bit, without solving again what the history holds.
+// objective, optimality, feasibility). Each evaluation's flow starts from the state of the
+// accepted evaluation closest to it in the optimizer's variables (closestWarmStart): a
+// line-search trial starts from the design its step came from, not from a rejected trial that
+// may sit on another branch of the flow. The states are kept on disk (the newest few accepted
+// ones and the optimizer's last two iterates) so that a resumed run starts its next evaluation
+// from the same state: a run killed at any moment and resumed reaches the same iterates, bit for
+// bit, without solving again what the history holds.
 #include <atomic>
 #include <functional>
 #include <limits>
@@ -100,6 +103,18 @@ struct OptimizationSummary {
     std::string historyCsv, historyJsonl, iterationsCsv, finalGeometry;
     double seconds = 0;
 };
+
+/// A converged flow an evaluation may start from: an accepted evaluation and its point in the
+/// optimizer's variables.
+struct WarmCandidate {
+    int evaluation = 0;
+    std::vector<double> x;
+};
+/// The evaluation of the candidate closest to x (Euclidean distance in the optimizer's
+/// variables); of equally close ones (within a relative 1e-6) the older: a line-search trial
+/// halfway between the design its step came from and a rejected full step starts from the
+/// former. 0 when there is no candidate.
+int closestWarmStart(const std::vector<WarmCandidate>& candidates, const std::vector<double>& x);
 
 /// Runs the case's optimization section. Throws CaseError for a case without one (or without
 /// design variables), InputError for a history that cannot be read or written or belongs to

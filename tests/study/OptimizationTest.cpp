@@ -5,6 +5,7 @@
 // coordinate to 1e-6 (the paper: 18 orders in 29 evaluations).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -83,6 +84,22 @@ study::OptimizationRecord secondOfTwo(
 
 }  // namespace
 
+// A step starts from the closest converged design; a trial halfway between the design its step
+// came from and a rejected full step starts from the former, whatever the order of the list.
+TEST(Optimization, AStepStartsFromTheClosestConvergedDesign) {
+    using study::WarmCandidate;
+    EXPECT_EQ(study::closestWarmStart({}, {0.0, 0.0}), 0);
+    const std::vector<WarmCandidate> path = {{1, {0.0, 0.0}}, {2, {1.0, 0.0}}};
+    EXPECT_EQ(study::closestWarmStart(path, {0.5, 0.0}), 1);
+    EXPECT_EQ(study::closestWarmStart({path[1], path[0]}, {0.5, 0.0}), 1);
+    EXPECT_EQ(study::closestWarmStart(path, {0.1 + 0.2 + 0.2, 0.0}), 1);  // equal to round-off
+    EXPECT_EQ(study::closestWarmStart(path, {0.25, 0.3}), 1);
+    EXPECT_EQ(study::closestWarmStart(path, {0.51, 0.0}), 2);
+    EXPECT_EQ(study::closestWarmStart(path, {2.0, -1.0}), 2);
+    // A point of another size (a history of another problem) is never chosen.
+    EXPECT_EQ(study::closestWarmStart({{3, {0.5}}, path[1]}, {0.5, 0.0}), 2);
+}
+
 TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/inverse_design";
     std::filesystem::create_directories(dir);
@@ -102,13 +119,36 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     study::OptimizationOptions o;
     o.fresh = true;
     double first = -1;
+    // Every warm start is from an accepted evaluation at least as close as the newest four
+    // (always among the kept states); count those that are not the newest.
+    std::vector<study::OptimizationRecord> accepted;
+    int olderStarts = 0;
+    auto distance = [](const std::vector<double>& a, const std::vector<double>& b) {
+        double d = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
+        return std::sqrt(d);
+    };
     o.onRecord = [&](const study::OptimizationRecord& r) {
-        if (r.kind == study::OptimizationRecord::Kind::Values && r.ok && first < 0) first = r.J;
+        if (r.kind != study::OptimizationRecord::Kind::Values) return;
+        if (r.ok && first < 0) first = r.J;
+        if (accepted.empty()) {
+            EXPECT_EQ(r.warmFrom, 0);
+        } else {
+            const auto from = std::find_if(accepted.begin(), accepted.end(), [&](const auto& a) { return a.index == r.warmFrom; });
+            ASSERT_NE(from, accepted.end()) << "evaluation " << r.index << " started from " << r.warmFrom;
+            for (std::size_t k = accepted.size() > 4 ? accepted.size() - 4 : 0; k < accepted.size(); ++k) {
+                EXPECT_LE(distance(from->x, r.x), distance(accepted[k].x, r.x) * (1 + 1e-6))
+                    << "evaluation " << r.index << " started from " << r.warmFrom << ", not " << accepted[k].index;
+            }
+            if (r.warmFrom != accepted.back().index) ++olderStarts;
+        }
+        if (r.ok) accepted.push_back(r);
     };
     const study::OptimizationSummary s = study::optimizeCase(ev, o);
-    std::printf("inverse design: %s after %d iterations, %d evaluations: J %.3e -> %.3e, optimality %.2e\n",
+    std::printf("inverse design: %s after %d iterations, %d evaluations: J %.3e -> %.3e, optimality %.2e; %d warm "
+                "starts from an accepted evaluation older than the newest\n",
                 optimize::statusName(s.result.status), s.result.iterations, s.result.evaluations, first, s.J,
-                s.result.optimality);
+                s.result.optimality, olderStarts);
     EXPECT_EQ(s.result.status, optimize::Status::Converged) << s.result.message;
     EXPECT_GT(first, 1e-7);
     EXPECT_LT(s.J, 1e-12 * first);
@@ -203,9 +243,9 @@ TEST(Optimization, AConvergedFlowBeyondTheEntropyBoundIsAFailedEvaluation) {
 }
 
 // optimization.max_entropy_rise: the first evaluation is accepted whatever its entropy (there is
-// nothing to jump from); a later one whose entropy error is more than the factor times the last
-// accepted evaluation's is refused with the reason, and a resumed run compares with the replayed
-// record's entropy, not with nothing.
+// nothing to jump from); a later one whose entropy error is more than the factor times that of the
+// design its flow started from is refused with the reason, and a resumed run compares with the
+// replayed record's entropy, not with nothing.
 TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/entropy_rise";
     io::CaseFile c = shortRun(dir, 3, 2);
@@ -227,7 +267,7 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
     EXPECT_GT(first[0].maxEntropy, 0.0);
     EXPECT_FALSE(first[1].ok);
     EXPECT_EQ(first[1].status, "flow-unresolved");
-    EXPECT_NE(first[1].message.find("of evaluation 1, the last accepted one; optimization.max_entropy_rise 0.001"),
+    EXPECT_NE(first[1].message.find("of evaluation 1, the design this flow started from; optimization.max_entropy_rise 0.001"),
               std::string::npos)
         << first[1].message;
     EXPECT_NE(first[1].message.find("a jump to another steady state"), std::string::npos) << first[1].message;
@@ -246,13 +286,19 @@ TEST(Optimization, AnEntropyJumpFromTheLastAcceptedDesignIsAFailedEvaluation) {
 }
 
 // optimization.warm_start_fallback: the second evaluation's warm start is made to fail at once
-// (a state of zero density in place of the first evaluation's); "none" makes that a failed
-// evaluation with the reason, "free_stream" solves it again from the free stream and converges.
+// (a state of zero density in place of the first evaluation's, in its file); "none" makes that a
+// failed evaluation with the reason, "free_stream" solves it again from the free stream and
+// converges.
 TEST(Optimization, AStalledWarmStartFallsBackAsTheCaseSays) {
     auto secondEvaluation = [](const std::string& fallback) {
-        return secondOfTwo("warm_fallback_" + fallback, [&](io::CaseFile& c) { c.optimization.warmStartFallback = fallback; },
-                           [](study::CaseEvaluator& ev, const study::OptimizationRecord& r) {
-                               if (r.ok) ev.setWarmStart(std::vector<double>(ev.lastConvergedState().size(), 0.0));
+        const std::string name = "warm_fallback_" + fallback;
+        const std::string state = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/" + name + "/history.states/1.state";
+        return secondOfTwo(name, [&](io::CaseFile& c) { c.optimization.warmStartFallback = fallback; },
+                           [&](study::CaseEvaluator& ev, const study::OptimizationRecord& r) {
+                               if (r.ok && r.index == 1) {
+                                   ASSERT_EQ(io::readWarmState(state).size(), ev.lastConvergedState().size());
+                                   io::writeWarmState(state, std::vector<double>(ev.lastConvergedState().size(), 0.0));
+                               }
                            });
     };
     const study::OptimizationRecord none = secondEvaluation("none");
@@ -294,8 +340,9 @@ TEST(Optimization, AWarmStartBeyondItsBudgetIsAFailedStep) {
 
 // A resumed run that leaves its recorded path (here: gradient 2's recorded objective row changed,
 // as another build's round-off would, so SLSQP asks for another third point) goes on from
-// evaluation 2; its flow state was removed (only the newest two are kept), so the next flow
-// starts from the newest state left, a nearby converged flow, not from the free stream.
+// evaluation 2; the flow states of evaluations 1 and 2 are gone (removed here, as a build that
+// kept only the newest two left them), so the next flow starts from the newest state left, a
+// nearby converged flow, not from the free stream.
 TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/left_path";
     io::CaseFile c = shortRun(dir, 10, 5);
@@ -325,7 +372,8 @@ TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
         std::ofstream out(jsonl, std::ios::trunc);
         for (const std::string& line : lines) out << line << "\n";
     }
-    ASSERT_FALSE(std::filesystem::exists(dir + "/history.states/2.state"));
+    ASSERT_TRUE(std::filesystem::remove(dir + "/history.states/1.state"));
+    ASSERT_TRUE(std::filesystem::remove(dir + "/history.states/2.state"));
     int newest = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir + "/history.states"))
         newest = std::max(newest, std::atoi(entry.path().stem().string().c_str()));
