@@ -701,13 +701,15 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         }
     };
     // An accepted evaluation's state joins the candidates; the oldest beyond kKeptStates go (their
-    // files too), except the optimizer's last two iterates. The same happens when a resumed run
-    // replays the record, so the candidates, and with them every warm start, are the same.
-    auto keepState = [&](int index, const std::vector<double>& u) {
+    // files too), except the optimizer's last two iterates and the state this evaluation started
+    // from (a resume that has its values but not its gradient solves it again from there). The
+    // same happens when a resumed run replays the record, so the candidates, and with them every
+    // warm start, are the same.
+    auto keepState = [&](int index, const std::vector<double>& u, int from) {
         warmCandidates.push_back({index, u});
         std::size_t extra = warmCandidates.size() > kKeptStates ? warmCandidates.size() - kKeptStates : 0;
         for (auto k = warmCandidates.begin(); extra > 0 && k != warmCandidates.end();) {
-            if (k->evaluation == iterate || k->evaluation == previousIterate) {
+            if (k->evaluation == iterate || k->evaluation == previousIterate || k->evaluation == from) {
                 ++k;
                 continue;
             }
@@ -780,7 +782,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 warmFromOf[r.index] = r.warmFrom;
                 lastOk = r.index;
                 entropyOf[r.index] = r.maxEntropy;
-                keepState(r.index, r.x);
+                keepState(r.index, r.x, r.warmFrom);
             }
             if (r.warmFrom == 0 && summary.coldFlowIterations == 0) summary.coldFlowIterations = r.flowIterations;
             record(r);
@@ -858,7 +860,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             warmFromOf[r.index] = r.warmFrom;
             lastOk = r.index;
             entropyOf[r.index] = entropy;
-            keepState(r.index, u);
+            keepState(r.index, u, r.warmFrom);
             last = e;
             lastX = u;
         } else if (unresolved) {
