@@ -9,7 +9,11 @@
 // NLopt 2.7's SLSQP asks for the gradient with the first trial point of every line search (its
 // shortcut for the usual case that the full step is taken) and at a later trial it accepts, not
 // at the trials in between; every point it asks the gradient of counts as an iteration of the
-// common report (a rejected first trial too: its objective is then worse than the last).
+// common report (a rejected first trial too: its objective is then worse than the last). The
+// driver restarts from the newest of those points that is not worse than the one before in both
+// objective and feasibility (a filter's test), so never from a rejected first trial: on the 98k
+// multilevel path a restart from such a trial (CL/CD -0.09 against the start's 7.69) sent the
+// next steps onto another branch of the flow.
 #include <nlopt.hpp>
 #include <algorithm>
 #include <cmath>
@@ -25,9 +29,16 @@ namespace {
 constexpr int kMaxRestarts = 60;
 constexpr double kBoxProgress = 1e-3;  // relative objective gain per iteration on the box's face
 
+// The point a restart starts from, its objective and infeasibility (at least the tolerance).
+struct Accepted {
+    std::vector<double> x;
+    double objective = 0, infeasibility = 0;
+};
+
 struct Run {
     Tracker& t;
     std::vector<double>& lastIterate;  // the last point reported as an iteration (all runs)
+    Accepted& accepted;                // the newest gradient point not dominated (all runs)
     int iteration = 0;
     bool converged = false, failed = false, iterationLimit = false;
     std::vector<double> failedX{};
@@ -65,11 +76,17 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
         const Gradients* g = r.t.gradients(x);
         if (!g) fail(r, x, n);
         std::copy(g->objective.begin(), g->objective.end(), grad);
-        if (std::equal(x, x + n, r.lastIterate.begin(), r.lastIterate.end())) {
+        if (std::equal(x, x + n, r.lastIterate.begin(), r.lastIterate.end()) ||
+            std::equal(x, x + n, r.accepted.x.begin(), r.accepted.x.end())) {
             r.previous = v->objective;  // a restart's start
             return v->objective;
         }
         r.lastIterate.assign(x, x + n);
+        const Problem& p = r.t.problem();
+        const double h = std::max(feasibility(p, r.lastIterate, v->constraints), r.t.settings().feasibilityTolerance);
+        if (r.accepted.x.empty() || v->objective <= r.accepted.objective || h < r.accepted.infeasibility) {
+            r.accepted = {r.lastIterate, v->objective, h};
+        }
         if (r.t.iterate(++r.iteration, x)) {
             r.converged = true;
             throw nlopt::forced_stop();
@@ -148,8 +165,9 @@ public:
         };
         int iterations = 0;
         std::vector<double> lastIterate;
+        Accepted accepted;
         for (int restart = 0;; ++restart) {
-            Run run{t, lastIterate};
+            Run run{t, lastIterate, accepted};
             run.iteration = iterations;
             if (lo != p.lower || hi != p.upper) {
                 run.boxLower = &lo;
@@ -200,7 +218,7 @@ public:
                 return t.result(Status::Stalled, "SLSQP restarted " + std::to_string(kMaxRestarts) + " times without converging" +
                                                      (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
             }
-            const std::vector<double> good = t.lastGradientPoint().empty() ? p.start : t.lastGradientPoint();
+            const std::vector<double> good = accepted.x.empty() ? p.start : accepted.x;
             if (run.failed) {
                 // Backtrack: a box of half the failed step around the last good iterate.
                 double step = 0;
@@ -217,7 +235,7 @@ public:
             if (lo != p.lower || hi != p.upper) {
                 // The run ended without a failure while its box binds (or crept along its face):
                 // go on from its end with a larger box (lifted once it covers the bounds).
-                const std::vector<double> end = t.lastGradientPoint().empty() ? x : t.lastGradientPoint();
+                const std::vector<double> end = accepted.x.empty() ? x : accepted.x;
                 radius *= 2;
                 box(end);
                 continue;

@@ -7,6 +7,9 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "optimize/Optimizer.h"
 
@@ -192,6 +195,47 @@ TEST_P(Optimizers, ReportAStartThatCannotBeEvaluated) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Both, Optimizers, ::testing::Values("ipopt", "slsqp"));
+
+// SLSQP's first step from a steep start overshoots to a worse point, a line-search trial it
+// rejects but whose gradient NLopt asks for; the next trial fails. The driver restarts from the
+// start, the newest point not worse, not from the rejected trial (which it did, then walked on
+// from there through points far worse than the start).
+TEST(Slsqp, RestartsFromThePointBeforeARejectedTrial) {
+    Problem p;
+    p.start = {1};
+    p.lower = {-30};
+    p.upper = {30};
+    auto points = std::make_shared<std::vector<double>>();
+    p.values = [points](const std::vector<double>& x) {
+        points->push_back(x[0]);
+        Values v;
+        if (x[0] >= -5 && x[0] < -0.5) {
+            v.ok = false;
+            v.message = "a failure band";
+            return v;
+        }
+        v.objective = 10 * x[0] * x[0];
+        return v;
+    };
+    p.gradients = [](const std::vector<double>& x) {
+        Gradients g;
+        g.objective = {20 * x[0]};
+        return g;
+    };
+    const Result r = makeOptimizer("slsqp")->minimize(p, Settings{});
+    std::string path;
+    for (double x : *points) path += " " + std::to_string(x);
+    EXPECT_EQ(r.status, Status::Converged) << r.message << ";" << path;
+    EXPECT_NEAR(r.x[0], 0.0, 1e-6) << path;
+    // The path: the start, the rejected full step (-19), the failed trial, then inside a box of
+    // half that failure around the start.
+    ASSERT_GE(points->size(), 4u) << path;
+    EXPECT_EQ((*points)[1], -19.0) << path;
+    EXPECT_TRUE((*points)[2] >= -5 && (*points)[2] < -0.5) << path;
+    const double radius = 0.5 * (1 - (*points)[2]);
+    for (std::size_t k = 3; k < points->size(); ++k) EXPECT_LE(std::abs((*points)[k] - 1), radius * (1 + 1e-12)) << path;
+    EXPECT_EQ(r.failedEvaluations, 1) << path;
+}
 
 TEST(Optimizer, UnknownNameListsTheChoices) {
     try {
