@@ -8,6 +8,10 @@ namespace aero::optimize {
 namespace {
 
 constexpr std::size_t kCachedPoints = 6;
+// Of them, the newest ones with gradients stay whatever comes after: the iterates a backtracking
+// driver restarts from after a run of failed trials (SLSQP on the 98k multilevel path solved its
+// start again, flow and adjoint, after six failed steps had pushed it out).
+constexpr int kPinnedIterates = 2;
 
 }  // namespace
 
@@ -64,7 +68,18 @@ const Values* Tracker::values(const double* x) {
         }
     }
     cache_.push_front(std::move(e));
-    if (cache_.size() > kCachedPoints) cache_.pop_back();
+    if (cache_.size() > kCachedPoints) {
+        // The oldest entry that is not one of the pinned iterates.
+        int withGradients = 0;
+        std::size_t victim = cache_.size();
+        for (std::size_t k = 0; k < cache_.size(); ++k) {
+            const bool iterate = cache_[k].hasGradients && cache_[k].g.ok;
+            const bool pinned = iterate && withGradients < kPinnedIterates;
+            if (iterate) ++withGradients;
+            if (!pinned) victim = k;
+        }
+        if (victim < cache_.size()) cache_.erase(cache_.begin() + static_cast<std::ptrdiff_t>(victim));
+    }
     Entry& front = cache_.front();
     return front.v.ok ? &front.v : nullptr;
 }

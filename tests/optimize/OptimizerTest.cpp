@@ -163,6 +163,34 @@ TEST_P(Optimizers, GrowBackAfterEarlyFailures) {
     EXPECT_LE(r.evaluations, 120);
 }
 
+// Seven failed trials in a row do not push the start out of the evaluation cache: the restart
+// from it (SLSQP's driver) or the step cut back to it (Ipopt) does not evaluate it again (on the
+// 98k grid: a flow and an adjoint, 30 s).
+TEST_P(Optimizers, EvaluateTheStartOnceThroughARunOfFailures) {
+    Problem p = quadratic(false);
+    auto calls = std::make_shared<int>(0);
+    auto atStart = std::make_shared<int>(0);
+    auto failures = std::make_shared<int>(0);
+    auto inner = p.values;
+    const std::vector<double> start = p.start;
+    p.values = [inner, calls, atStart, failures, start](const std::vector<double>& x) {
+        ++*calls;
+        if (x == start) ++*atStart;
+        if (*failures < 7 && std::max(std::abs(x[0] - start[0]), std::abs(x[1] - start[1])) > 1e-3) {
+            ++*failures;
+            Values v;
+            v.ok = false;
+            v.message = "failed";
+            return v;
+        }
+        return inner(x);
+    };
+    const Result r = makeOptimizer(GetParam())->minimize(p, Settings{});
+    EXPECT_EQ(r.status, Status::Converged) << r.message;
+    EXPECT_EQ(*failures, 7);
+    EXPECT_EQ(*atStart, 1) << *calls << " evaluations";
+}
+
 TEST_P(Optimizers, StopAtTheEvaluationLimitAndOnCancel) {
     Settings s;
     s.maxEvaluations = 3;
