@@ -63,6 +63,27 @@ Problem quadratic(bool linear) {
     return p;
 }
 
+// Makes the first `count` evaluations farther than `radius` (infinity norm) from p.start fail, as
+// a fragile flow does; returns the number of failures so far.
+std::shared_ptr<int> failAwayFromStart(Problem& p, int count, double radius, const std::string& why) {
+    auto failures = std::make_shared<int>(0);
+    auto inner = p.values;
+    const std::vector<double> start = p.start;
+    p.values = [=](const std::vector<double>& x) {
+        double d = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) d = std::max(d, std::abs(x[i] - start[i]));
+        if (*failures < count && d > radius) {
+            ++*failures;
+            Values v;
+            v.ok = false;
+            v.message = why;
+            return v;
+        }
+        return inner(x);
+    };
+    return failures;
+}
+
 class Optimizers : public ::testing::TestWithParam<std::string> {};
 
 }  // namespace
@@ -142,18 +163,7 @@ TEST_P(Optimizers, GrowBackAfterEarlyFailures) {
         g.objective = {-1 - 100 * d * std::cos(x[0]), 100 * d};
         return g;
     };
-    auto failures = std::make_shared<int>(0);
-    auto inner = p.values;
-    p.values = [inner, failures](const std::vector<double>& x) {
-        if (*failures < 5 && std::max(std::abs(x[0]), std::abs(x[1])) > 0.02) {
-            ++*failures;
-            Values v;
-            v.ok = false;
-            v.message = "too far while the flow is fragile";
-            return v;
-        }
-        return inner(x);
-    };
+    (void)failAwayFromStart(p, 5, 0.02, "too far while the flow is fragile");
     const Result r = makeOptimizer(GetParam())->minimize(p, Settings{});
     EXPECT_EQ(r.status, Status::Converged) << r.message;
     std::printf("%s: %d evaluations, %d failed, x %.6f %.6f\n", GetParam().c_str(), r.evaluations, r.failedEvaluations, r.x[0], r.x[1]);
@@ -170,19 +180,11 @@ TEST_P(Optimizers, EvaluateTheStartOnceThroughARunOfFailures) {
     Problem p = quadratic(false);
     auto calls = std::make_shared<int>(0);
     auto atStart = std::make_shared<int>(0);
-    auto failures = std::make_shared<int>(0);
+    const std::shared_ptr<int> failures = failAwayFromStart(p, 7, 1e-3, "failed");
     auto inner = p.values;
-    const std::vector<double> start = p.start;
-    p.values = [inner, calls, atStart, failures, start](const std::vector<double>& x) {
+    p.values = [inner, calls, atStart, start = p.start](const std::vector<double>& x) {
         ++*calls;
         if (x == start) ++*atStart;
-        if (*failures < 7 && std::max(std::abs(x[0] - start[0]), std::abs(x[1] - start[1])) > 1e-3) {
-            ++*failures;
-            Values v;
-            v.ok = false;
-            v.message = "failed";
-            return v;
-        }
         return inner(x);
     };
     const Result r = makeOptimizer(GetParam())->minimize(p, Settings{});
