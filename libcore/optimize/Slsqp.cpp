@@ -8,12 +8,12 @@
 // many tiny steps (the 98k sphere-to-wing run: eight evaluations gaining 0.1 % in all).
 // NLopt 2.7's SLSQP asks for the gradient with the first trial point of every line search (its
 // shortcut for the usual case that the full step is taken) and at a later trial it accepts, not
-// at the trials in between; every point it asks the gradient of counts as an iteration of the
-// common report (a rejected first trial too: its objective is then worse than the last). The
-// driver restarts from the newest of those points that is not worse than the one before in both
-// objective and feasibility (a filter's test), so never from a rejected first trial: on the 98k
-// multilevel path a restart from such a trial (CL/CD -0.09 against the start's 7.69) sent the
-// next steps onto another branch of the flow.
+// at the trials in between. Such a point counts as an iteration of the common report unless it is
+// worse than the last iteration in both objective and feasibility (a filter's test): then it is
+// a first trial the line search rejects. The driver restarts from the last iteration, so never
+// from a rejected trial: on the 98k multilevel path a restart from one (CL/CD -0.09 against the
+// start's 7.69) sent the next steps onto another branch of the flow, and the study layer's warm
+// starts come from the last iteration's flow.
 #include <nlopt.hpp>
 #include <algorithm>
 #include <cmath>
@@ -37,8 +37,7 @@ struct Accepted {
 
 struct Run {
     Tracker& t;
-    std::vector<double>& lastIterate;  // the last point reported as an iteration (all runs)
-    Accepted& accepted;                // the newest gradient point not dominated (all runs)
+    Accepted& accepted;  // the last point reported as an iteration (all runs)
     int iteration = 0;
     bool converged = false, failed = false, iterationLimit = false;
     std::vector<double> failedX{};
@@ -76,17 +75,17 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
         const Gradients* g = r.t.gradients(x);
         if (!g) fail(r, x, n);
         std::copy(g->objective.begin(), g->objective.end(), grad);
-        if (std::equal(x, x + n, r.lastIterate.begin(), r.lastIterate.end()) ||
-            std::equal(x, x + n, r.accepted.x.begin(), r.accepted.x.end())) {
+        if (std::equal(x, x + n, r.accepted.x.begin(), r.accepted.x.end())) {
             r.previous = v->objective;  // a restart's start
             return v->objective;
         }
-        r.lastIterate.assign(x, x + n);
         const Problem& p = r.t.problem();
-        const double h = std::max(feasibility(p, r.lastIterate, v->constraints), r.t.settings().feasibilityTolerance);
-        if (r.accepted.x.empty() || v->objective <= r.accepted.objective || h < r.accepted.infeasibility) {
-            r.accepted = {r.lastIterate, v->objective, h};
+        std::vector<double> at(x, x + n);
+        const double h = std::max(feasibility(p, at, v->constraints), r.t.settings().feasibilityTolerance);
+        if (!r.accepted.x.empty() && v->objective > r.accepted.objective && h >= r.accepted.infeasibility) {
+            return v->objective;  // a first trial SLSQP's line search rejects: not an iteration
         }
+        r.accepted = {std::move(at), v->objective, h};
         if (r.t.iterate(++r.iteration, x)) {
             r.converged = true;
             throw nlopt::forced_stop();
@@ -164,10 +163,9 @@ public:
             x = centre;
         };
         int iterations = 0;
-        std::vector<double> lastIterate;
         Accepted accepted;
         for (int restart = 0;; ++restart) {
-            Run run{t, lastIterate, accepted};
+            Run run{t, accepted};
             run.iteration = iterations;
             if (lo != p.lower || hi != p.upper) {
                 run.boxLower = &lo;

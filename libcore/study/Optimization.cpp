@@ -719,14 +719,18 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             --extra;
         }
     };
-    // Gives the evaluator the state of the kept evaluation closest to u; returns that evaluation
-    // (0: none, a cold start). A candidate whose file is gone (a history of an older build kept
-    // only the newest two) is dropped; when none is left, the newest state in the folder, a
-    // nearby converged flow of a discarded evaluation, is a better start than the free stream.
+    // Gives the evaluator the state of the optimizer's current iterate, the design the step to u
+    // came from (else, before the first iterate or when its state is gone, that of the kept
+    // evaluation closest to u); returns that evaluation (0: none, a cold start). A candidate whose
+    // file is gone (a history of an older build kept only the newest two) is dropped; when none
+    // is left, the newest state in the folder, a nearby converged flow of a discarded evaluation,
+    // is a better start than the free stream.
     auto warmStartFor = [&](const std::vector<double>& u) {
         const bool hadCandidates = !warmCandidates.empty();
         while (!warmCandidates.empty()) {
-            const int from = closestWarmStart(warmCandidates, u);
+            const bool atIterate = std::any_of(warmCandidates.begin(), warmCandidates.end(),
+                                               [&](const WarmCandidate& k) { return k.evaluation == iterate; });
+            const int from = atIterate ? iterate : closestWarmStart(warmCandidates, u);
             std::vector<double> q = io::readWarmState(statePath(from));
             if (!q.empty()) {
                 ev.setWarmStart(std::move(q));
@@ -734,6 +738,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             }
             warmCandidates.erase(std::find_if(warmCandidates.begin(), warmCandidates.end(),
                                               [&](const WarmCandidate& k) { return k.evaluation == from; }));
+            if (from == iterate) iterate = 0;
         }
         ev.forgetWarmStart();
         if (!hadCandidates) return 0;

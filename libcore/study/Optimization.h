@@ -12,12 +12,12 @@
 // --resume replays), `<history>.csv` (per evaluation: status, J, CL, CD, volume, flow and adjoint
 // iterations, times, the design) and `<history stem>_iterations.csv` (per major iteration:
 // objective, optimality, feasibility). Each evaluation's flow starts from the state of the
-// accepted evaluation closest to it in the optimizer's variables (closestWarmStart): a
-// line-search trial starts from the design its step came from, not from a rejected trial that
-// may sit on another branch of the flow. The states are kept on disk (the newest few accepted
-// ones and the optimizer's last two iterates) so that a resumed run starts its next evaluation
-// from the same state: a run killed at any moment and resumed reaches the same iterates, bit for
-// bit, without solving again what the history holds.
+// optimizer's current iterate, the design its step came from (before the first iterate, from the
+// accepted evaluation closest to it: closestWarmStart), not from the last converged evaluation,
+// which may be a rejected line-search trial on another branch of the flow. The states are kept
+// on disk (the newest few accepted ones and the optimizer's last two iterates) so that a resumed
+// run starts its next evaluation from the same state: a run killed at any moment and resumed
+// reaches the same iterates, bit for bit, without solving again what the history holds.
 #include <atomic>
 #include <functional>
 #include <limits>
