@@ -1018,9 +1018,16 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.replayed = it.iteration <= recordedIterations;
         record(r);
         const OptimizationRecord* v = csv.valuesAt(it.x);
-        if (v && v->ok && v->index != iterate) {
+        // The iterate's evaluation is the newest kept state at its point. Not csv.valuesAt: on a
+        // resume that leaves its recorded path, it still holds the records about to be discarded,
+        // whose numbers the next evaluations take.
+        int at = 0;
+        for (const WarmCandidate& k : warmCandidates) {
+            if (sameBits(k.x, it.x)) at = k.evaluation;
+        }
+        if (at != iterate) {
             previousIterate = iterate;
-            iterate = v->index;
+            iterate = at;
         }
         say(format("iteration %.0f: %s %.8g, optimality %.2e, feasibility %.2e, CL %.5f, CD %.5f (%.0f evaluations)%s",
                    static_cast<double>(it.iteration), oc.objective.c_str(), v ? v->J : kNaN, it.optimality, it.feasibility,
