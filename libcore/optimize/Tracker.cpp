@@ -8,9 +8,9 @@ namespace aero::optimize {
 namespace {
 
 constexpr std::size_t kCachedPoints = 6;
-// Of them, the newest ones with gradients stay whatever comes after: the iterates a backtracking
-// driver restarts from after a run of failed trials (SLSQP on the 98k multilevel path solved its
-// start again, flow and adjoint, after six failed steps had pushed it out).
+// Of them, the last ones reported as iterations stay whatever comes after: the iterates a
+// backtracking driver restarts from after a run of failed trials (SLSQP on the 98k multilevel
+// path solved its start again, flow and adjoint, after six failed steps had pushed it out).
 constexpr int kPinnedIterates = 2;
 
 }  // namespace
@@ -70,12 +70,9 @@ const Values* Tracker::values(const double* x) {
     cache_.push_front(std::move(e));
     if (cache_.size() > kCachedPoints) {
         // The oldest entry that is not one of the pinned iterates.
-        int withGradients = 0;
         std::size_t victim = cache_.size();
         for (std::size_t k = 0; k < cache_.size(); ++k) {
-            const bool iterate = cache_[k].hasGradients && cache_[k].g.ok;
-            const bool pinned = iterate && withGradients < kPinnedIterates;
-            if (iterate) ++withGradients;
+            const bool pinned = cache_[k].reported > 0 && cache_[k].reported > reports_ - kPinnedIterates;
             if (!pinned) victim = k;
         }
         if (victim < cache_.size()) cache_.erase(cache_.begin() + static_cast<std::ptrdiff_t>(victim));
@@ -120,7 +117,8 @@ const Gradients* Tracker::gradients(const double* x) {
 bool Tracker::iterate(int k, const double* x) {
     const Gradients* g = gradients(x);
     if (!g) return false;
-    const Entry* e = find(x);
+    Entry* e = find(x);
+    e->reported = ++reports_;
     Iteration it;
     it.iteration = k;
     it.evaluations = evaluations_;

@@ -51,6 +51,7 @@ private:
         Values v;
         bool hasGradients = false;
         Gradients g;
+        int reported = 0;  // the order in which it was reported as an iteration (0: never)
     };
     Entry* find(const double* x);
 
@@ -59,7 +60,7 @@ private:
     std::deque<Entry> cache_;
     Status stop_ = Status::Converged;  // Converged: not stopped
     std::string lastFailure_;
-    int evaluations_ = 0, gradientCalls_ = 0, failures_ = 0, iterations_ = 0;
+    int evaluations_ = 0, gradientCalls_ = 0, failures_ = 0, iterations_ = 0, reports_ = 0;
     std::vector<double> lastGradientX_;
     // The best point so far.
     std::vector<double> bestX_;
