@@ -227,9 +227,9 @@ TEST_P(Optimizers, ReportAStartThatCannotBeEvaluated) {
 INSTANTIATE_TEST_SUITE_P(Both, Optimizers, ::testing::Values("ipopt", "slsqp"));
 
 // SLSQP's first step from a steep start overshoots to a worse point, a line-search trial it
-// rejects but whose gradient NLopt asks for; the next trial fails. The driver restarts from the
-// start, the newest point not worse, not from the rejected trial (which it did, then walked on
-// from there through points far worse than the start).
+// rejects but whose gradient NLopt asks for; the next trial fails. The rejected trial is not
+// reported as an iteration, and the driver restarts from the last iteration, the start (it used
+// to restart from the rejected trial and walk on through points far worse than the start).
 TEST(Slsqp, RestartsFromThePointBeforeARejectedTrial) {
     Problem p;
     p.start = {1};
@@ -252,7 +252,10 @@ TEST(Slsqp, RestartsFromThePointBeforeARejectedTrial) {
         g.objective = {20 * x[0]};
         return g;
     };
-    const Result r = makeOptimizer("slsqp")->minimize(p, Settings{});
+    Settings s;
+    std::vector<double> iterates;
+    s.onIteration = [&](const Iteration& it) { iterates.push_back(it.x[0]); };
+    const Result r = makeOptimizer("slsqp")->minimize(p, s);
     std::string path;
     for (double x : *points) path += " " + std::to_string(x);
     EXPECT_EQ(r.status, Status::Converged) << r.message << ";" << path;
@@ -265,6 +268,10 @@ TEST(Slsqp, RestartsFromThePointBeforeARejectedTrial) {
     const double radius = 0.5 * (1 - (*points)[2]);
     for (std::size_t k = 3; k < points->size(); ++k) EXPECT_LE(std::abs((*points)[k] - 1), radius * (1 + 1e-12)) << path;
     EXPECT_EQ(r.failedEvaluations, 1) << path;
+    // The rejected trial is no iteration: the iterates only improve.
+    ASSERT_FALSE(iterates.empty());
+    EXPECT_EQ(iterates.front(), 1.0);
+    for (std::size_t k = 1; k < iterates.size(); ++k) EXPECT_LE(std::abs(iterates[k]), std::abs(iterates[k - 1])) << path;
 }
 
 TEST(Optimizer, UnknownNameListsTheChoices) {
