@@ -97,7 +97,7 @@ struct OptimizationCase {
     double maxEntropy = 0;             // a converged flow with a larger |s - s_inf| is a failed
                                        // evaluation (0: any)
     double maxEntropyRise = 0;         // ... and one whose |s - s_inf| is more than this many times
-                                       // the last accepted evaluation's (0: any)
+                                       // the design's it started from (0: any)
     std::string warmStartFallback = "continuation";  // after a warm start stalls: "continuation"
                                        // (free stream, then the dissipation continuation),
                                        // "free_stream", or "none" (a failed evaluation at once)
