@@ -352,7 +352,7 @@ bool hasConvergedFlow(const OptimizationRecord& r) {
 }
 
 int closestWarmStart(const std::vector<WarmCandidate>& candidates, const std::vector<double>& x) {
-    int best = 0, bestOrder = 0;
+    int best = 0;
     double bestDistance = 0;
     for (const WarmCandidate& k : candidates) {
         if (k.x.size() != x.size()) continue;
@@ -361,10 +361,9 @@ int closestWarmStart(const std::vector<WarmCandidate>& candidates, const std::ve
         d = std::sqrt(d);
         const double tie = 1e-6 * std::max(d, bestDistance);
         const bool closer = best == 0 || d < bestDistance - tie;
-        const bool asCloseAndOlder = best != 0 && std::abs(d - bestDistance) <= tie && k.evaluation < bestOrder;
+        const bool asCloseAndOlder = best != 0 && std::abs(d - bestDistance) <= tie && k.evaluation < best;
         if (closer || asCloseAndOlder) {
             best = k.evaluation;
-            bestOrder = k.evaluation;
             bestDistance = d;
         }
     }
