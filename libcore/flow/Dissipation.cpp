@@ -16,7 +16,7 @@ T frozen(const T& x, bool freeze) {
 
 template <class T>
 void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& metrics, double gamma,
-                       bool freeze, DissipationFields<T>& f, bool spacing, double switchSmoothing) {
+                       bool freeze, DissipationFields<T>& f, bool spacing) {
     using std::sqrt;
     const long N = q.nodeCount();
     std::vector<T> p(N);
@@ -55,12 +55,10 @@ void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& me
                     const long c = idx[d] == 0 ? n + s : (idx[d] == len - 1 ? n - s : n);
                     const T num = p[c + s] - 2.0 * p[c] + p[c - s];
                     const T den = p[c + s] + 2.0 * p[c] + p[c - s];
-                    if (switchSmoothing > 0) {
-                        const T raw = num / den;
-                        f.nu[d][n] = sqrt(raw * raw + switchSmoothing * switchSmoothing) - switchSmoothing;
-                    } else {
-                        f.nu[d][n] = absR(num) / den;
-                    }
+                    // Exact |.| also with DissipationOptions::switchSmoothing: its kink is
+                    // where the switch vanishes, and smoothing it takes the second difference
+                    // away wherever the switch is below the width (Dissipation.h).
+                    f.nu[d][n] = absR(num) / den;
                 }
             }
         }
@@ -72,7 +70,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
                     const DissipationOptions& o, double gamma, bool lumped, bool freeze,
                     const BlockView<T>& r) {
     DissipationFields<T> f;
-    dissipationFields(q, metrics, gamma, freeze, f, o.gridAware && !lumped, o.switchSmoothing);
+    dissipationFields(q, metrics, gamma, freeze, f, o.gridAware && !lumped);
     const std::array<int, 3> dims = q.dims;
     const long N = q.nodeCount();
     // The rows m = 1..len-2 of the second-difference operator, once per node and direction: the
@@ -169,7 +167,7 @@ void addDissipation(const BlockView<const T>& q, const BlockView<const T>& metri
 
 #define AERO_INSTANTIATE(T)                                                                        \
     template void dissipationFields<T>(const BlockView<const T>&, const BlockView<const T>&,      \
-                                       double, bool, DissipationFields<T>&, bool, double);               \
+                                       double, bool, DissipationFields<T>&, bool);                       \
     template void addDissipation<T>(const BlockView<const T>&, const BlockView<const T>&,         \
                                     const DissipationOptions&, double, bool, bool,                 \
                                     const BlockView<T>&);

@@ -40,12 +40,17 @@ struct DissipationOptions {
                             // iterations, 8: 89, 4: 55, 3: 47 (with ILU(1)), 2: 38
                             // (docs/validation.md); ILU(1-2) of it stays stable from 2 on
                             // (ILU(0) breaks down below about 16)
-    double switchSmoothing = 0;  // delta > 0: the switch's |.| and max() replaced by smooth
-                                 // versions of width delta (nu = sqrt(nu_raw^2 + delta^2) - delta,
-                                 // max(a, b) = (a + b + sqrt((a - b)^2 + delta^2) - delta) / 2, and
-                                 // max(0, kappa4 - kappa2 nu) with width delta kappa4), so the
-                                 // residual is differentiable and Newton does not chatter where the
-                                 // switch changes branch (docs/validation.md); 0: the kinked form
+    double switchSmoothing = 0;  // delta > 0: the switch's max() replaced by smooth versions of
+                                 // width delta (max(nu_a, nu_b) = (a + b + sqrt((a - b)^2 +
+                                 // delta^2) - delta) / 2, and max(0, kappa4 - kappa2 nu) with
+                                 // width delta kappa4), so Newton does not chatter where the
+                                 // switch changes branch at a shock (docs/validation.md); 0: the
+                                 // kinked form. The switch's |.| stays exact: its kink sits where
+                                 // the switch is zero, so the coefficients it changes are tiny
+                                 // there. Its smooth form sqrt(nu^2 + delta^2) - delta (used up to
+                                 // the twenty-sixth session) cut the second difference wherever
+                                 // nu < delta: 37 % more lift on an optimizer's design at 14,580
+                                 // nodes, against 5 % for the smooth maxima alone
 };
 
 /// max(a, b) of the switch: by the real part, or smooth with width delta (a lower bound of max
@@ -71,7 +76,7 @@ struct DissipationFields {
 /// derivatives: the frozen-coefficient Jacobian).
 template <class T>
 void dissipationFields(const BlockView<const T>& q, const BlockView<const T>& metrics, double gamma,
-                       bool freeze, DissipationFields<T>& f, bool spacing = false, double switchSmoothing = 0);
+                       bool freeze, DissipationFields<T>& f, bool spacing = false);
 
 template <class T>
 inline T eps2Half(const T& lamA, const T& lamB, const T& nuA, const T& nuB,

@@ -246,7 +246,7 @@ void assembleApproximateJacobian(const FlowMesh& fm, const std::vector<double>& 
             }
         }
         DissipationFields<double> df;
-        if (o.terms & kDissipation) dissipationFields(qb, mb, gamma, true, df, false, o.dissipation.switchSmoothing);
+        if (o.terms & kDissipation) dissipationFields(qb, mb, gamma, true, df, false);
 #pragma omp parallel for schedule(static)
         for (long n = 0; n < N; ++n) {
             const auto idx = nodeIndex(blk.dims, n);

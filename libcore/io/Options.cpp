@@ -162,9 +162,10 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "fourth-difference (background) dissipation coefficient"));
         o.push_back(real<FlowCase>("switch_smoothing", "", 0, true, 0.5, true,
                                    [](FlowCase& c) -> double& { return c.dissipation.switchSmoothing; },
-                                   "width of the smooth absolute value and maximum in the pressure switch and the fourth-difference "
-                                   "coefficient (0: the kinked JST form); a differentiable residual lets Newton converge "
-                                   "where the switch would flip between branches"));
+                                   "width of the smooth maxima in the pressure switch (of the neighbours' switches, and in "
+                                   "the fourth-difference coefficient; 0: the kinked JST form): Newton converges where the "
+                                   "switch would flip between branches at a shock; the switch's absolute value stays exact, "
+                                   "so the forces change little (docs/validation.md)"));
         o.push_back(boolean<FlowCase>("grid_aware_dissipation", [](FlowCase& c) -> bool& { return c.dissipation.gridAware; },
                             "the fourth difference scaled by the grid's own spacing ratio in each direction, so on a "
                             "stretched grid it does not act as a first-order wall friction; false: the index-space "

@@ -117,9 +117,12 @@ TEST(Jacobian, MatchesComplexStepOnRandomDirections) {
     EXPECT_LT(relDiff(a, centralDifference(c, q, v, smooth, 1e-6)), 1e-8);
 }
 
-// flow.switch_smoothing: with the switch's |.| and max() made smooth, the whole residual (pressure
-// switch on) is differentiable: central differences of the real residual agree with the exact
-// Jacobian on every row, where the kinked form fails on a few percent of them (previous test).
+// flow.switch_smoothing: with the switch's max() made smooth (the branches that change at a shock),
+// central differences of the real residual (pressure switch on) agree with the exact Jacobian
+// to within a few 1e-8, where the kinked form is 40 times further off (previous test). What is
+// left is the switch's own |.|, exact on purpose (Dissipation.h): its kinks sit where the
+// switch is zero. (A smooth |.| of width 3e-4 brings this to 4e-10, and already moves an
+// optimizer's design's lift by 7 % against 5 % without it: CaseEvaluatorTest.)
 TEST(Jacobian, SmoothSwitchMakesTheResidualDifferentiable) {
     const FlowCase& c = halfSphere(0.5);
     ResidualOptions o;
@@ -132,7 +135,7 @@ TEST(Jacobian, SmoothSwitchMakesTheResidualDifferentiable) {
     std::vector<double> a(q.size());
     J.mult(v.data(), a.data());
     const double smoothError = relDiff(a, centralDifference(c, q, v, o, 1e-6));
-    EXPECT_LT(smoothError, 1e-8);
+    EXPECT_LT(smoothError, 1e-7);
 
     ResidualOptions kinked = o;
     kinked.dissipation.switchSmoothing = 0;
@@ -141,7 +144,7 @@ TEST(Jacobian, SmoothSwitchMakesTheResidualDifferentiable) {
     const double kinkedError = relDiff(a, centralDifference(c, q, v, kinked, 1e-6));
     std::printf("central differences against the exact Jacobian: smooth switch %.2e, kinked switch %.2e\n", smoothError,
                 kinkedError);
-    EXPECT_GT(kinkedError, 100 * smoothError);  // the kinks are real, and gone
+    EXPECT_GT(kinkedError, 20 * smoothError);  // the maxima's kinks are real, and gone
 
     // The residual itself changes only a little (the smoothing width).
     std::vector<double> rs(q.size()), rk(q.size());
