@@ -512,6 +512,16 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     const bool warmCapped = f->warmStarted && request.warmIterations && *request.warmIterations < no.maxIterations;
     if (warmCapped) first.maxIterations = std::max(1, *request.warmIterations);
     f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, first, onIteration(false), cancel, checkpoint);
+    if (const int more = warmCapped ? warmStartFinish(f->report, no.relativeTolerance) : 0; more > 0) {
+        say(format("the warm start's budget of %d iterations is spent while it converges (relative residual %.3g): %d "
+                   "more",
+                   first.maxIterations, f->report.history.back().relativeResidual, more));
+        flow::NewtonOptions rest = no;
+        rest.maxIterations = more;
+        if (f->report.cflBase > 0) rest.cfl0 = f->report.cflBase;
+        f->budgetReport = std::move(f->report);
+        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, rest, onIteration(false), cancel, checkpoint);
+    }
     const flow::FlowStatus st = f->report.status;
     // A warm start cut by the request's budget failed as a stall does (the retries have the case's).
     const bool failed = st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber ||
@@ -684,8 +694,11 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             // A step from a converged neighbour converges in 5-40 iterations; one that needs more
             // is crawling (2 % per iteration on the 98k sphere-to-wing path: a nearly singular
             // Newton matrix), and the optimizer is better off with a shorter step.
-            why += format("; the warm start's budget of %d iterations (optimization.warm_start_iterations) is spent%s",
+            why += format("; the warm start's budget of %d iterations (optimization.warm_start_iterations) is spent%s%s",
                           first.maxIterations,
+                          f->budgetReport.iterations > 0
+                              ? format(", and the %d more it got while converging fast", f->report.iterations).c_str()
+                              : "",
                           falling > 0 ? format(" while it crawls (a factor of %.3g over the last %d iterations)", falling,
                                                kStillFallingWindow).c_str()
                                       : "");
@@ -726,6 +739,15 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     e.secondsFlow = since(t);
 }
 
+int warmStartFinish(const flow::FlowReport& r, double relativeTolerance) {
+    const int h = static_cast<int>(r.history.size());
+    if (r.status != flow::FlowStatus::MaxIterations || h <= kStillFallingWindow || !(relativeTolerance > 0)) return 0;
+    const double before = r.history[h - 1 - kStillFallingWindow].relativeResidual, now = r.history[h - 1].relativeResidual;
+    if (!(now > 0 && now < before)) return 0;
+    const double needed = std::log(now / relativeTolerance) / (std::log(before / now) / kStillFallingWindow);
+    return needed <= kStillFallingWindow ? kStillFallingWindow : 0;
+}
+
 double stillFalling(const flow::FlowReport& r) {
     const int h = static_cast<int>(r.history.size());
     if (r.status != flow::FlowStatus::MaxIterations || h <= kStillFallingWindow) return 0;
@@ -734,7 +756,8 @@ double stillFalling(const flow::FlowReport& r) {
 }
 
 int FlowResult::totalIterations() const {
-    int n = report.iterations + warmReport.iterations + sequencedReport.iterations + failedReport.iterations;
+    int n = report.iterations + budgetReport.iterations + warmReport.iterations + sequencedReport.iterations +
+            failedReport.iterations;
     for (const DissipationStage& s : dissipationStages) n += s.report.iterations;
     return n;
 }

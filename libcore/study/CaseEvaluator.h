@@ -152,6 +152,11 @@ std::string describeWallBend(const mesh::WallBend& b);
 /// least kStillFallingFactor over its last kStillFallingWindow iterations: its reason then says
 /// so (more iterations, or a restart, converge it) instead of looking for a growing mode.
 inline constexpr int kStillFallingWindow = 10;
+/// Iterations a warm start gets past its budget (EvaluationRequest::warmIterations) when the last
+/// kStillFallingWindow iterations' rate projects the tolerance within as many: a step that is
+/// converging, not crawling (the optimizer's 98k evaluation 13, twenty-seventh session: 4.4e-10
+/// at its 80th iteration, a factor of 5.7 over the last ten, against the tolerance 1e-10).
+int warmStartFinish(const flow::FlowReport& r, double relativeTolerance);
 inline constexpr double kStillFallingFactor = 10.0;
 
 /// The factor by which such a solve's residual fell over its last kStillFallingWindow
@@ -188,6 +193,9 @@ struct FlowResult {
     flow::FlowReport warmReport;            // a warm start that failed and was solved again from the
                                             // free stream (EvaluationRequest::coldRetry; else empty)
     bool coldRetry() const { return warmReport.iterations > 0 || !warmReport.message.empty(); }
+    flow::FlowReport budgetReport;          // a warm start's first EvaluationRequest::warmIterations,
+                                            // when they ran out while Newton converged fast and the
+                                            // solve went on (report: the rest; else empty)
     bool sequencedRetry() const { return sequencedReport.iterations > 0 || !sequencedReport.message.empty(); }
     flow::FlowReport failedReport;          // a cold solve that failed and was solved again by
                                             // continuation in the dissipation (else empty) ...

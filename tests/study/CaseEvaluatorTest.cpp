@@ -256,6 +256,57 @@ TEST(CaseEvaluator, AWarmStartFromANeighbouringDesignSavesIterations) {
     EXPECT_NEAR(warmB.flow->forces.CD, coldB.flow->forces.CD, 1e-8);
 }
 
+// A warm start whose budget (EvaluationRequest::warmIterations, the optimizer's
+// warm_start_iterations) runs out while Newton converges fast is not a crawl: it gets
+// kStillFallingWindow more iterations when the last ones' rate reaches the tolerance within as
+// many (the 98k evaluation 13 of the twenty-seventh session stopped at 4.4e-10 against 1e-10).
+TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
+    auto report = [](flow::FlowStatus status, double last, double factorPerWindow) {
+        flow::FlowReport r;
+        r.status = status;
+        for (int i = 0; i <= study::kStillFallingWindow + 2; ++i) {
+            flow::FlowIteration it;
+            it.iteration = i + 1;
+            it.relativeResidual = last * std::pow(factorPerWindow, (study::kStillFallingWindow + 2.0 - i) / study::kStillFallingWindow);
+            r.history.push_back(it);
+        }
+        return r;
+    };
+    const int w = study::kStillFallingWindow;
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 4.4e-10, 5.7), 1e-10), w);
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-9, 11.0), 1e-10), w);
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-9, 9.0), 1e-10), 0);  // 10.5 more
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-6, 1.3), 1e-10), 0);  // a crawl
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::Stalled, 4.4e-10, 5.7), 1e-10), 0);
+    flow::FlowReport shortRun = report(flow::FlowStatus::MaxIterations, 4.4e-10, 5.7);
+    shortRun.history.resize(w);
+    EXPECT_EQ(study::warmStartFinish(shortRun, 1e-10), 0);
+
+    // In the pipeline: a step whose warm start takes more than the window, given a budget two
+    // iterations short of it, converges to the same forces with the extra iterations counted.
+    study::CaseEvaluator ev(smallBlendedWing(), study::loadGeometry(smallBlendedWing().geometry));
+    study::EvaluationRequest cold;
+    cold.warmStart = false;
+    // From the half-sphere's flow to the sample blended wing: 13 warm iterations.
+    const std::vector<double> sphere = study::scaledDesign(ev, 0.0), wing = ev.caseValues();
+    ASSERT_TRUE(ev.evaluate(sphere, cold).ok());
+    const study::Evaluation free = ev.evaluate(wing);
+    ASSERT_TRUE(free.ok()) << free.message;
+    ASSERT_TRUE(free.flow->warmStarted);
+    std::printf("warm start without a budget: %d iterations\n", free.flow->report.iterations);
+    ASSERT_GT(free.flow->report.iterations, w + 2);
+    ASSERT_TRUE(ev.evaluate(sphere, cold).ok());
+    study::EvaluationRequest capped;
+    capped.warmIterations = free.flow->report.iterations - 2;
+    const study::Evaluation e = ev.evaluate(wing, capped);
+    ASSERT_TRUE(e.ok()) << e.message;
+    EXPECT_EQ(e.flow->budgetReport.iterations, *capped.warmIterations);
+    EXPECT_GT(e.flow->report.iterations, 0);
+    EXPECT_EQ(e.flow->totalIterations(), e.flow->budgetReport.iterations + e.flow->report.iterations);
+    EXPECT_NEAR(e.flow->forces.CL, free.flow->forces.CL, 1e-8);
+    EXPECT_NEAR(e.flow->forces.CD, free.flow->forces.CD, 1e-8);
+}
+
 // A warm start that fails is solved again from the free stream (the optimizer's evaluation 13 on
 // the 98k grid stalled warm and converges cold): here the warm state is made non-physical, so the
 // warm solve stops at once; the retry is the cold solve, bit for bit. Without the retry the
