@@ -152,12 +152,12 @@ std::string describeWallBend(const mesh::WallBend& b);
 /// least kStillFallingFactor over its last kStillFallingWindow iterations: its reason then says
 /// so (more iterations, or a restart, converge it) instead of looking for a growing mode.
 inline constexpr int kStillFallingWindow = 10;
+inline constexpr double kStillFallingFactor = 10.0;
 /// Iterations a warm start gets past its budget (EvaluationRequest::warmIterations) when the last
 /// kStillFallingWindow iterations' rate projects the tolerance within as many: a step that is
 /// converging, not crawling (the optimizer's 98k evaluation 13, twenty-seventh session: 4.4e-10
 /// at its 80th iteration, a factor of 5.7 over the last ten, against the tolerance 1e-10).
 int warmStartFinish(const flow::FlowReport& r, double relativeTolerance);
-inline constexpr double kStillFallingFactor = 10.0;
 
 /// The factor by which such a solve's residual fell over its last kStillFallingWindow
 /// iterations; 0 when it is not still falling (another status, too short or too slow a history).

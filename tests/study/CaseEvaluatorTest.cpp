@@ -267,7 +267,8 @@ TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
         for (int i = 0; i <= study::kStillFallingWindow + 2; ++i) {
             flow::FlowIteration it;
             it.iteration = i + 1;
-            it.relativeResidual = last * std::pow(factorPerWindow, (study::kStillFallingWindow + 2.0 - i) / study::kStillFallingWindow);
+            const double windowsLeft = (study::kStillFallingWindow + 2.0 - i) / study::kStillFallingWindow;
+            it.relativeResidual = last * std::pow(factorPerWindow, windowsLeft);
             r.history.push_back(it);
         }
         return r;
