@@ -1,5 +1,6 @@
 #include "adjoint/Functionals.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -23,7 +24,8 @@ constexpr Entry kTable[] = {{Functional::Kind::CL, "CL"},
                             {Functional::Kind::CM, "CM"},
                             {Functional::Kind::CY, "CY"},
                             {Functional::Kind::PressureMismatch, "pressure"},
-                            {Functional::Kind::ForceCombination, "force combination"}};
+                            {Functional::Kind::ForceCombination, "force combination"},
+                            {Functional::Kind::WallMachSum, "wall_mach"}};
 
 constexpr Functional::Kind kForceKinds[4] = {Functional::Kind::CL, Functional::Kind::CD, Functional::Kind::CM,
                                              Functional::Kind::CY};
@@ -33,16 +35,35 @@ T magnitude(const T n[3]) {
     return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+// (|u| / c)^2 at one node: smooth everywhere, a stagnation point included, where |u| / c has a
+// cone (complex-step safe: no abs, no max).
+template <class T>
+T localMachSquared(const T* q, double gamma) {
+    const T u2 = (q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) / (q[0] * q[0]);
+    return u2 * q[0] / (gamma * flow::pressure(q, gamma));
+}
+
 }  // namespace
 
 Functional Functional::pressureMismatch(std::vector<double> target) {
-    return {Kind::PressureMismatch, std::make_shared<const std::vector<double>>(std::move(target)), nullptr};
+    return {Kind::PressureMismatch, std::make_shared<const std::vector<double>>(std::move(target)), nullptr, 0, 0};
 }
 
 Functional Functional::forceCombination(double cCL, double cCD, double cCM, double cCY) {
     Functional f;
     f.kind = Kind::ForceCombination;
     f.coefficients = std::make_shared<const std::array<double, 4>>(std::array<double, 4>{cCL, cCD, cCM, cCY});
+    return f;
+}
+
+Functional Functional::wallMachSum(double rho, double machReference) {
+    if (!(rho > 0) || !(machReference > 0) || !std::isfinite(machReference)) {
+        throw Error("Functional::wallMachSum: rho and the reference Mach number must be positive");
+    }
+    Functional f;
+    f.kind = Kind::WallMachSum;
+    f.rho = rho;
+    f.machReference = machReference;
     return f;
 }
 
@@ -54,7 +75,7 @@ void functionalWeights(const Functional& f, const flow::FreeStream& fs, const fl
     if (f.kind == Functional::Kind::ForceCombination) {
         for (int b = 0; b < 4; ++b) {
             double bF[3], bM[3];
-            functionalWeights(Functional{kForceKinds[b], nullptr, nullptr}, fs, ref, bF, bM);
+            functionalWeights(Functional{kForceKinds[b], nullptr, nullptr, 0, 0}, fs, ref, bF, bM);
             for (int c = 0; c < 3; ++c) {
                 wF[c] += (*f.coefficients)[b] * bF[c];
                 wM[c] += (*f.coefficients)[b] * bM[c];
@@ -79,6 +100,7 @@ void functionalWeights(const Functional& f, const flow::FreeStream& fs, const fl
             break;
         case Functional::Kind::PressureMismatch:
         case Functional::Kind::ForceCombination:
+        case Functional::Kind::WallMachSum:
             break;
     }
 }
@@ -95,6 +117,12 @@ T wallNodeShare(const Functional& f, const flow::WallNode& w, std::size_t k, con
         flow::outwardNormal(metrics, w.face, n);
         const T d = flow::pressure(q, fs.gamma) - (*f.targetPressure)[k];
         return 0.5 * d * d * w.weight * magnitude(n);
+    }
+    if (f.kind == Functional::Kind::WallMachSum) {
+        // (M^2 - M_ref^2) / (2 M_ref) is M - M_ref to first order near M_ref, without the cone of
+        // M = sqrt(M^2) at a stagnation point.
+        const double m = f.machReference;
+        return std::exp(f.rho * (localMachSquared(q, fs.gamma) - m * m) / (2 * m));
     }
     double wF[3], wM[3];
     functionalWeights(f, fs, ref, wF, wM);
@@ -113,8 +141,11 @@ template C wallNodeShare<C>(const Functional&, const flow::WallNode&, std::size_
 Functional functionalByName(const std::string& name) {
     std::string list;
     for (const Entry& e : kTable) {
-        if (e.kind == Functional::Kind::PressureMismatch || e.kind == Functional::Kind::ForceCombination) continue;
-        if (name == e.name) return {e.kind, nullptr, nullptr};
+        if (e.kind == Functional::Kind::PressureMismatch || e.kind == Functional::Kind::ForceCombination ||
+            e.kind == Functional::Kind::WallMachSum) {
+            continue;
+        }
+        if (name == e.name) return {e.kind, nullptr, nullptr, 0, 0};
         list += std::string(list.empty() ? "" : ", ") + e.name;
     }
     throw CaseError("unknown functional '" + name + "' (expected " + list + ")");
@@ -143,9 +174,10 @@ double functionalValue(const Functional& f, const flow::ForceCoefficients& c) {
             return c.CY;
         case Functional::Kind::PressureMismatch:
         case Functional::Kind::ForceCombination:
+        case Functional::Kind::WallMachSum:
             break;
     }
-    throw Error("functionalValue: the pressure mismatch needs the state, not the forces");
+    throw Error(std::string("functionalValue: the ") + functionalName(f) + " needs the state, not the forces");
 }
 
 double functionalValue(const Functional& f, const flow::FlowMesh& fm, const std::vector<double>& metrics,
@@ -195,9 +227,26 @@ double alphaPartial(const Functional& f, const flow::ForceCoefficients& c) {
         case Functional::Kind::CY:
         case Functional::Kind::PressureMismatch:
         case Functional::Kind::ForceCombination:
+        case Functional::Kind::WallMachSum:
             return 0;
     }
     return 0;
+}
+
+std::vector<double> wallMach(const flow::FlowMesh& fm, const std::vector<double>& q, double gamma) {
+    std::vector<double> m;
+    for (const flow::WallNode& w : flow::wallNodes(fm)) m.push_back(std::sqrt(localMachSquared(&q[flow::kVars * w.node], gamma)));
+    return m;
+}
+
+double wallMachSmoothMax(const Functional& f, double S, double* dS) {
+    if (f.kind != Functional::Kind::WallMachSum) throw Error("wallMachSmoothMax: not a wall Mach sum");
+    // KS of (M^2 - M_ref^2) / (2 M_ref): M^2 <~ M_ref^2 + 2 M_ref ln(S) / rho.
+    const double m = f.machReference;
+    const double squared = std::max(m * m + 2 * m * std::log(S) / f.rho, 1e-300);
+    const double smooth = std::sqrt(squared);
+    if (dS) *dS = m / (f.rho * S * smooth);
+    return smooth;
 }
 
 std::vector<double> wallPressure(const flow::FlowMesh& fm, const std::vector<double>& q, double gamma) {

@@ -94,6 +94,8 @@ struct OptimizationCase {
     double minCornerRatio = 0.01;      // every grid cell corner keeps this fraction of its baseline
                                        // volume (0: no grid-validity constraint)
     double maxWallBend = 0;            // degrees the wall may turn from grid node to node (0: free)
+    double maxWallMach = 0;            // the wall's local Mach number (a smooth maximum) stays below
+                                       // this (0: free)
     double maxEntropy = 0;             // a converged flow with a larger |s - s_inf| is a failed
                                        // evaluation (0: any)
     double maxEntropyRise = 0;         // ... and one whose |s - s_inf| is more than this many times

@@ -366,6 +366,12 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "the angle the wall turns from one grid node to the next is kept below this, with its exact "
                             "gradient, so the optimizer does not fold the wall into bends the grid cannot resolve (the "
                             "flow there is not resolved and tends to stall; docs/validation.md); 0: no such constraint"));
+        o.push_back(real<O>("max_wall_mach", "", 0, true, 10, false, [](O& c) -> double& { return c.maxWallMach; },
+                            "flow regime: a smooth maximum (Kreisselmeier-Steinhauser, rho 50) of the local Mach number "
+                            "at the wall nodes is kept below this, with its exact gradient (a flow adjoint of its own "
+                            "per gradient), so the optimizer does not climb by growing supersonic pockets and shocks, "
+                            "whose Euler flows stop converging on finer grids (docs/validation.md); the aggregate is "
+                            "above the largest wall Mach number by up to about 0.05; 0: no such constraint"));
         o.push_back(real<O>("max_entropy", "", 0, true, 100, false, [](O& c) -> double& { return c.maxEntropy; },
                             "flow credibility: an evaluation whose flow converges with a largest entropy error "
                             "|s - s_inf| above this is reported to the optimizer as failed (status flow-unresolved), "

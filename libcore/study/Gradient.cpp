@@ -25,7 +25,7 @@ constexpr const char* kPressure = "pressure";
 }  // namespace
 
 void checkGradientFunctional(const std::string& name) {
-    if (name == kRatio || name == kPressure) return;
+    if (name == kRatio || name == kPressure || name == kWallMach) return;
     try {
         (void)adjoint::functionalByName(name);
     } catch (const CaseError&) {
@@ -50,6 +50,10 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     std::vector<adjoint::Functional> bases;
     adjoint::Functional pressure;
     auto byName = [&](const std::string& name) {
+        if (name == kWallMach) {
+            if (!(o.wallMachRho > 0)) throw CaseError("the functional 'wall_mach' needs its rho (GradientOptions::wallMachRho)");
+            return adjoint::Functional::wallMachSum(o.wallMachRho, o.wallMachReference);
+        }
         if (name != kPressure) return adjoint::functionalByName(name);
         if (!pressure.targetPressure) {
             if (o.targetPressure.empty()) throw CaseError("the functional 'pressure' needs a target pressure");
@@ -248,6 +252,18 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
     for (const std::string& name : o.functionals) {
         if (name == kRatio && ratioFromParts) {
             res.functionals.push_back(quotient(baseOf(adjoint::Functional::CL), baseOf(adjoint::Functional::CD)));
+        } else if (name == kWallMach) {
+            // The smooth maximum instead of the sum: its chain rule on every part of the gradient.
+            FunctionalGradient r = baseOf(byName(name));
+            double dS = 0;
+            r.value = adjoint::wallMachSmoothMax(byName(name), r.value, &dS);
+            for (double& x : r.dv) x *= dS;
+            r.dalpha *= dS;
+            for (double& x : r.dUnique) x *= dS;
+            for (auto& l : r.dLattice) {
+                for (double& x : l) x *= dS;
+            }
+            res.functionals.push_back(std::move(r));
         } else {
             res.functionals.push_back(baseOf(name == kRatio ? ratio : byName(name)));
         }

@@ -20,15 +20,18 @@
 
 namespace aero::study {
 
-/// "CL", "CD", "CM", "CY" (adjoint::functionalByName), the ratio "CL/CD" or the inverse design's
-/// "pressure" (needs GradientOptions::targetPressure). Throws CaseError naming the choices for
-/// anything else.
+/// "CL", "CD", "CM", "CY" (adjoint::functionalByName), the ratio "CL/CD", the inverse design's
+/// "pressure" (needs GradientOptions::targetPressure) or kWallMach (needs
+/// GradientOptions::wallMachRho). Throws CaseError naming the choices for anything else.
 void checkGradientFunctional(const std::string& name);
 
 /// The name of the grid-validity function in GradientResult::functionals.
 inline constexpr const char* kCornerRatio = "corner_ratio";
 /// The name of the wall-bend function (mesh::wallBendSmoothMax, degrees) in GradientResult::functionals.
 inline constexpr const char* kWallBend = "wall_bend";
+/// The name of the wall Mach number's smooth maximum (adjoint::wallMachSmoothMax) in
+/// GradientResult::functionals (requested with GradientOptions::wallMachRho).
+inline constexpr const char* kWallMach = "wall_mach";
 
 struct GradientOptions {
     std::vector<std::string> functionals{"CL", "CD"};
@@ -41,6 +44,9 @@ struct GradientOptions {
     /// 0: not), named kWallBend: the optimizer's constraint that keeps the shape resolved by the
     /// grid. The wall grid follows the surface alone, but it goes through the same chain.
     double wallBendRho = 0;
+    /// With kWallMach among the functionals: the aggregation's rho and reference Mach number
+    /// (adjoint::Functional::wallMachSum). Its gradient takes a flow adjoint of its own.
+    double wallMachRho = 0, wallMachReference = 1.0;
     /// Also dJ/dA (FunctionalGradient::dUnique) and dJ/dB (FunctionalGradient::dLattice) of every
     /// requested functional: for a designer's view of where the geometry and the lattices should
     /// move (the optimizer does not need them).

@@ -37,6 +37,7 @@ namespace {
 
 constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (io/Options.cpp documents it)
 constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - cos of the bend)
+constexpr double kWallMachRho = 50;     // the wall-Mach constraint's
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The status of a converged flow refused by optimization.max_entropy or max_entropy_rise.
 constexpr const char* kUnresolved = "flow-unresolved";
@@ -533,6 +534,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (gridConstraint) p.nonlinear.push_back({"grid corner ratio (log)", std::log(oc.minCornerRatio), infinity});
     const bool bendConstraint = oc.maxWallBend > 0;
     if (bendConstraint) p.nonlinear.push_back({"wall bend (degrees, smooth max)", -infinity, oc.maxWallBend});
+    // The wall's local Mach number, aggregated about the bound itself (the aggregate's terms are
+    // then of order 1 where it matters).
+    const bool machConstraint = oc.maxWallMach > 0;
+    const adjoint::Functional wallMach =
+        machConstraint ? adjoint::Functional::wallMachSum(kWallMachRho, oc.maxWallMach) : adjoint::Functional{};
+    if (machConstraint) p.nonlinear.push_back({"wall Mach (smooth max)", -infinity, oc.maxWallMach});
     // Geometric constraints of the FFD model itself (exact values and gradients, no adjoint).
     std::optional<ffd::ThicknessConstraints> thickness;
     if (c.thickness.present()) {
@@ -579,6 +586,11 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (oc.liftConstraint && oc.objective != "CL") go.functionals.push_back("CL");
     if (gridConstraint) go.cornerRatioRho = kCornerRatioRho;
     if (bendConstraint) go.wallBendRho = kWallBendRho;
+    if (machConstraint) {
+        go.functionals.push_back(kWallMach);
+        go.wallMachRho = wallMach.rho;
+        go.wallMachReference = wallMach.machReference;
+    }
 
     // The history files.
     summary.historyCsv = oc.history;
@@ -856,6 +868,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 r.constraints.push_back(r.cornerRatio);
             }
             if (bendConstraint) r.constraints.push_back(mesh::wallBendSmoothMax(e->mesh->grids, mesh::wallFaces(e->mesh->control), kWallBendRho));
+            if (machConstraint) {
+                const FlowResult& fl = *e->flow;
+                r.constraints.push_back(adjoint::wallMachSmoothMax(
+                    wallMach, adjoint::functionalValue(wallMach, fl.mesh, fl.metrics, fl.x, fl.q, fl.residualOptions.freeStream,
+                                                       c.flow.reference)));
+            }
             if (thickness) {
                 for (double x : thickness->ratios(v)) r.constraints.push_back(x);
             }
@@ -971,6 +989,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                     r.dConstraints.push_back(row);
                 }
                 if (bendConstraint) r.dConstraints.push_back(designRow(g.find(kWallBend)->dv));
+                if (machConstraint) {
+                    const FunctionalGradient& fm = *g.find(kWallMach);
+                    std::vector<double> row = designRow(fm.dv);
+                    if (withAlpha) row[nv] = fm.dalpha * alphaUnit;
+                    r.dConstraints.push_back(row);
+                }
                 if (thickness) {
                     for (const std::vector<double>& dt : thickness->ratioGradients(design(u))) r.dConstraints.push_back(designRow(dt));
                 }

@@ -3,6 +3,7 @@
 // dCL/dalpha, dCD/dalpha through the adjoint against converged flows at alpha +- h.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -150,6 +151,60 @@ TEST(Functionals, PressureMismatchWeighsTheWallsAreaAndHasExactStateGradients) {
     std::vector<double> wrong(p.size() - 1, 0.0);
     EXPECT_THROW((void)adjoint::functionalValue(adjoint::Functional::pressureMismatch(wrong), f.mesh, f.metrics, f.x, f.q, fs, ref),
                  GeometryError);
+}
+
+// The wall Mach number's aggregate (the optimizer's max_wall_mach constraint): its smooth maximum
+// lies between the largest wall Mach number and that plus ln(wall nodes) / rho, tends to the
+// largest as rho grows, and its state gradient agrees with centred differences.
+TEST(Functionals, WallMachSumBoundsTheLargestWallMachNumberWithExactStateGradients) {
+    const study::Evaluation& e = baseState();
+    ASSERT_TRUE(e.ok()) << e.message;
+    const study::FlowResult& f = *e.flow;
+    const flow::FreeStream& fs = f.residualOptions.freeStream;
+    const flow::ForceReference ref = smallCase().flow.reference;
+    const std::vector<double> mach = adjoint::wallMach(f.mesh, f.q, fs.gamma);
+    ASSERT_EQ(mach.size(), flow::wallNodes(f.mesh).size());
+    const double largest = *std::max_element(mach.begin(), mach.end());
+    EXPECT_GT(largest, fs.mach);  // the flow speeds up over the body
+    EXPECT_LT(largest, 1.0);      // and stays subsonic on this sample
+    double previous = 1e300;
+    for (double rho : {20.0, 50.0, 200.0, 1000.0}) {
+        const adjoint::Functional fn = adjoint::Functional::wallMachSum(rho, 0.9);
+        EXPECT_STREQ(adjoint::functionalName(fn), "wall_mach");
+        EXPECT_FALSE(fn.isForce());
+        const double smooth =
+            adjoint::wallMachSmoothMax(fn, adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, f.q, fs, ref));
+        EXPECT_GE(smooth, largest) << rho;
+        EXPECT_LT(smooth, previous) << rho;  // sharper aggregates come closer
+        previous = smooth;
+        // ln(N)/rho bounds the excess near the reference (M^2 - M_ref^2 = 2 M_ref (M - M_ref) + (M - M_ref)^2).
+        EXPECT_LT(smooth - largest, std::log(static_cast<double>(mach.size())) / rho + 0.05) << rho;
+    }
+    EXPECT_LT(previous - largest, 0.01);
+    const adjoint::Functional fn = adjoint::Functional::wallMachSum(50, 0.9);
+    EXPECT_EQ(adjoint::alphaPartial(fn, f.forces), 0.0);
+    EXPECT_THROW((void)adjoint::functionalValue(fn, f.forces), Error);
+    EXPECT_THROW((void)adjoint::Functional::wallMachSum(0, 0.9), Error);
+    EXPECT_THROW((void)adjoint::Functional::wallMachSum(50, 0), Error);
+    const std::vector<double> g = adjoint::stateGradient(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
+    const std::vector<double> dir = randomVector(f.q.size(), 13);
+    const double h = 1e-6;
+    std::vector<double> qp = f.q, qm = f.q;
+    for (std::size_t i = 0; i < qp.size(); ++i) {
+        qp[i] += h * dir[i];
+        qm[i] -= h * dir[i];
+    }
+    const double fd = (adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qp, fs, ref) -
+                       adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qm, fs, ref)) / (2 * h);
+    EXPECT_GT(std::abs(fd), 0.0);
+    EXPECT_NEAR(dot(g, dir), fd, 1e-7 * std::abs(fd));
+    // d(smooth max)/dS against a centred difference in S.
+    const double S = adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
+    double dS = 0;
+    (void)adjoint::wallMachSmoothMax(fn, S, &dS);
+    const double hs = 1e-6 * S;
+    EXPECT_NEAR(dS, (adjoint::wallMachSmoothMax(fn, S + hs) - adjoint::wallMachSmoothMax(fn, S - hs)) / (2 * hs),
+                1e-7 * std::abs(dS));
 }
 
 TEST(FlowAdjoint, ConvergesAndIsTheDualOfTheTangentSolve) {

@@ -37,19 +37,28 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     const study::Evaluation e = ev.evaluate(v);
     ASSERT_TRUE(e.ok()) << e.message;
     study::GradientOptions o;
-    o.functionals = {"CL", "CD", "CL/CD"};
+    o.functionals = {"CL", "CD", "CL/CD", "wall_mach"};  // wall_mach: the optimizer's max_wall_mach constraint
+    o.wallMachRho = 50;
+    o.wallMachReference = 0.9;
     o.cornerRatioRho = 50;  // the optimizer's grid-validity constraint, through the same mesh adjoint
     o.wallBendRho = 1000;   // and its wall-bend constraint
     const study::GradientResult g = study::computeGradient(ev, e, o);
     ASSERT_TRUE(g.ok) << g.message;
-    ASSERT_EQ(g.functionals.size(), 5u);
-    EXPECT_EQ(g.functionals[3].name, study::kCornerRatio);
-    EXPECT_EQ(g.functionals[4].name, study::kWallBend);
+    ASSERT_EQ(g.functionals.size(), 6u);
+    EXPECT_EQ(g.functionals[3].name, study::kWallMach);
+    EXPECT_EQ(g.functionals[4].name, study::kCornerRatio);
+    EXPECT_EQ(g.functionals[5].name, study::kWallBend);
+    const adjoint::Functional machSum = adjoint::Functional::wallMachSum(o.wallMachRho, o.wallMachReference);
+    auto smoothMach = [&](const study::FlowResult& fl) {
+        return adjoint::wallMachSmoothMax(machSum, adjoint::functionalValue(machSum, fl.mesh, fl.metrics, fl.x, fl.q,
+                                                                            fl.residualOptions.freeStream,
+                                                                            tightCase().flow.reference));
+    };
     const std::vector<std::array<bool, 6>> walls = mesh::wallFaces(e.mesh->control);
     // With CL and CD requested, CL/CD comes from their adjoints (the quotient rule): two
-    // adjoints. Alone, CL/CD has its own adjoint (its linearization, a combination of CL and CD):
-    // the same gradient to the adjoints' tolerance.
-    ASSERT_EQ(g.adjoints.size(), 2u);
+    // adjoints (and the wall Mach number its own). Alone, CL/CD has its own adjoint (its
+    // linearization, a combination of CL and CD): the same gradient to the adjoints' tolerance.
+    ASSERT_EQ(g.adjoints.size(), 3u);
     study::GradientOptions alone;
     alone.functionals = {"CL/CD"};
     const study::GradientResult own = study::computeGradient(ev, e, alone);
@@ -85,6 +94,7 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
     // switches lie moves with the grid: as in the paper's check, the best of several steps counts.
     std::vector<std::pair<double, double>> ratios;  // (step, corner ratio) of every evaluation
     std::vector<double> bends;                      // and its wall bend
+    std::vector<double> machs;                      // and its wall Mach number's smooth maximum
     auto at = [&](double s) {
         std::vector<double> w = v;
         for (std::size_t i = 0; i < v.size(); ++i) w[i] += s * z[i];
@@ -92,6 +102,7 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
         EXPECT_TRUE(ee.ok()) << ee.message;
         ratios.emplace_back(s, mesh::cornerRatioSmoothMin(ee.mesh->grids, ev.baselineGrids(), o.cornerRatioRho));
         bends.push_back(mesh::wallBendSmoothMax(ee.mesh->grids, walls, o.wallBendRho));
+        machs.push_back(smoothMach(*ee.flow));
         return ee.flow->forces;
     };
     double best[3] = {1e300, 1e300, 1e300}, bestFd[3] = {0, 0, 0}, exact[3] = {0, 0, 0};
@@ -114,28 +125,45 @@ TEST(Gradient, DirectionalDerivativeMatchesCentredDifferencesOfWholeEvaluations)
         EXPECT_NEAR(exact[k], bestFd[k], 1e-6 * std::abs(bestFd[k])) << g.functionals[k].name;
     }
     // The grid's corner ratio: a smooth function of the design (no dissipation switches).
-    EXPECT_NEAR(g.functionals[3].value, mesh::cornerRatioSmoothMin(e.mesh->grids, ev.baselineGrids(), 50), 1e-14);
+    EXPECT_NEAR(g.functionals[4].value, mesh::cornerRatioSmoothMin(e.mesh->grids, ev.baselineGrids(), 50), 1e-14);
     double ratioExact = 0;
-    for (std::size_t i = 0; i < v.size(); ++i) ratioExact += g.functionals[3].dv[i] * z[i];
+    for (std::size_t i = 0; i < v.size(); ++i) ratioExact += g.functionals[4].dv[i] * z[i];
     double bestRatio = 1e300;
     for (std::size_t a = 0; a + 1 < ratios.size(); a += 2) {
         const double fd = (ratios[a].second - ratios[a + 1].second) / (2 * ratios[a].first);
         bestRatio = std::min(bestRatio, std::abs(fd - ratioExact));
     }
-    std::printf("corner ratio: %.10g, directional derivative %.10g, best difference %.2e\n", g.functionals[3].value,
+    std::printf("corner ratio: %.10g, directional derivative %.10g, best difference %.2e\n", g.functionals[4].value,
                 ratioExact, bestRatio);
     EXPECT_LT(bestRatio, 1e-6 * std::abs(ratioExact));
     // The wall bend likewise (degrees; it depends on the wall grid alone).
-    EXPECT_NEAR(g.functionals[4].value, mesh::wallBendSmoothMax(e.mesh->grids, walls, 1000), 1e-12);
+    EXPECT_NEAR(g.functionals[5].value, mesh::wallBendSmoothMax(e.mesh->grids, walls, 1000), 1e-12);
     double bendExact = 0;
-    for (std::size_t i = 0; i < v.size(); ++i) bendExact += g.functionals[4].dv[i] * z[i];
+    for (std::size_t i = 0; i < v.size(); ++i) bendExact += g.functionals[5].dv[i] * z[i];
     double bestBend = 1e300;
     for (std::size_t a = 0; a + 1 < bends.size(); a += 2) {
         bestBend = std::min(bestBend, std::abs((bends[a] - bends[a + 1]) / (2 * ratios[a].first) - bendExact));
     }
-    std::printf("wall bend: %.10g degrees, directional derivative %.10g, best difference %.2e\n", g.functionals[4].value,
+    std::printf("wall bend: %.10g degrees, directional derivative %.10g, best difference %.2e\n", g.functionals[5].value,
                 bendExact, bestBend);
     EXPECT_GT(std::abs(bendExact), 1e-3);
     EXPECT_LT(bestBend, 1e-6 * std::abs(bendExact));
+    // The wall Mach number's smooth maximum: through the flow adjoint, like the forces (the best
+    // of the steps, for the same reason), and its value is the flow's.
+    EXPECT_NEAR(g.functionals[3].value, smoothMach(*e.flow), 1e-14);
+    double machExact = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) machExact += g.functionals[3].dv[i] * z[i];
+    double bestMach = 1e300, bestMachFd = 0;
+    for (std::size_t a = 0; a + 1 < machs.size(); a += 2) {
+        const double fd = (machs[a] - machs[a + 1]) / (2 * ratios[a].first);
+        if (std::abs(fd - machExact) < bestMach) {
+            bestMach = std::abs(fd - machExact);
+            bestMachFd = fd;
+        }
+    }
+    std::printf("wall Mach (smooth max): %.10g, adjoint %.10g, centred difference %.10g\n", g.functionals[3].value,
+                machExact, bestMachFd);
+    EXPECT_GT(std::abs(machExact), 1e-3);
+    EXPECT_NEAR(machExact, bestMachFd, 1e-6 * std::abs(bestMachFd));
 }
 

@@ -454,7 +454,7 @@ TEST(Optimization, AMinimumVolumeOnPatchesFacingInwardIsRefusedWithTheReason) {
     EXPECT_EQ(records, 0);
 }
 
-TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimizer) {
+TEST(Optimization, ThicknessLatticeJacobianWallBendAndWallMachConstraintsReachTheOptimizer) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/shape_constraints";
     std::filesystem::create_directories(dir);
     io::CaseFile c = small("sphere_to_bwb.json");
@@ -469,6 +469,7 @@ TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimiz
     c.thickness.minRatio = 0.5;
     c.minLatticeJacobian = 0.2;
     c.optimization.maxWallBend = 30;
+    c.optimization.maxWallMach = 1.2;
     // The best shape into a folder that does not exist yet: made at the start, not found missing
     // at the end of the run.
     std::filesystem::remove_all(dir + "/shapes");
@@ -490,10 +491,11 @@ TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimiz
     const std::vector<study::OptimizationRecord> file = study::readHistory(study::historyJsonlPath(c.optimization.history));
     ASSERT_FALSE(file.empty());
     const std::vector<std::string>& names = file.front().constraintNames;
-    ASSERT_EQ(names.size(), 3u + 4u + 1u);  // volume, grid, wall bend, 4 thickness points, lattice
+    ASSERT_EQ(names.size(), 4u + 4u + 1u);  // volume, grid, wall bend, wall Mach, 4 thickness points, lattice
     EXPECT_EQ(names[2], "wall bend (degrees, smooth max)");
-    EXPECT_EQ(names[3], "thickness y=0 x/c=0.25 / baseline");
-    EXPECT_EQ(names[7], "lattice det J / baseline (smooth min)");
+    EXPECT_EQ(names[3], "wall Mach (smooth max)");
+    EXPECT_EQ(names[4], "thickness y=0 x/c=0.25 / baseline");
+    EXPECT_EQ(names[8], "lattice det J / baseline (smooth min)");
     ASSERT_TRUE(values && gradient);
     ASSERT_EQ(values->constraints.size(), names.size());
     // The start is the sphere: its wall bend is the baseline grid's (KS bound and sharpest).
@@ -502,10 +504,15 @@ TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimiz
     EXPECT_NEAR(values->wallBend, mesh::sharpestWallBend(ev.baselineGrids(), walls).degrees, 1e-12);
     EXPECT_GT(values->constraints[2], values->wallBend);
     EXPECT_LT(values->constraints[2], 30.0);
-    for (int k = 3; k < 7; ++k) EXPECT_NEAR(values->constraints[k], 1.0, 1e-12) << names[k];
+    // The sphere's wall Mach number: its smooth maximum is above the largest, which is about 0.84
+    // on the optimization grid (docs/validation.md), and below the bound.
+    EXPECT_GE(values->constraints[3], values->maxMach - 0.05);
+    EXPECT_GT(values->constraints[3], 0.7);
+    EXPECT_LT(values->constraints[3], 1.2);
+    for (int k = 4; k < 8; ++k) EXPECT_NEAR(values->constraints[k], 1.0, 1e-12) << names[k];
     const ffd::FfdModel& model = *ev.model();
     const ffd::LatticeJacobianBound bound(model);
-    EXPECT_NEAR(values->constraints[7], 1.0 - std::log(static_cast<double>(bound.sampleCount())) / bound.rho(), 1e-12);
+    EXPECT_NEAR(values->constraints[8], 1.0 - std::log(static_cast<double>(bound.sampleCount())) / bound.rho(), 1e-12);
     // Gradient rows in the optimizer's variables (each divided by its range): central differences.
     const ffd::ThicknessConstraints thick(model, {c.thickness.stations, c.thickness.chordFractions, {}});
     const auto& vars = model.design().variables();
@@ -518,9 +525,13 @@ TEST(Optimization, ThicknessLatticeJacobianAndWallBendConstraintsReachTheOptimiz
         down[i] -= h * range;
         for (int k = 0; k < 4; ++k) {
             const double fd = (thick.ratios(up)[k] - thick.ratios(down)[k]) / (2 * h);
-            EXPECT_NEAR(gradient->dConstraints[3 + k][i], fd, 1e-6 * (1 + std::abs(fd))) << names[3 + k] << ", " << vars[i].name;
+            EXPECT_NEAR(gradient->dConstraints[4 + k][i], fd, 1e-6 * (1 + std::abs(fd))) << names[4 + k] << ", " << vars[i].name;
         }
         const double fd = (bound.value(up) - bound.value(down)) / (2 * h);
-        EXPECT_NEAR(gradient->dConstraints[7][i], fd, 1e-5 * (1 + std::abs(fd))) << vars[i].name;
+        EXPECT_NEAR(gradient->dConstraints[8][i], fd, 1e-5 * (1 + std::abs(fd))) << vars[i].name;
     }
+    // The wall Mach row: the flow adjoint's (checked against differences in tests/adjoint/GradientTest).
+    double machRow = 0;
+    for (double x : gradient->dConstraints[3]) machRow = std::max(machRow, std::abs(x));
+    EXPECT_GT(machRow, 1e-3);
 }
