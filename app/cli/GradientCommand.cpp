@@ -34,7 +34,9 @@ const char* kGradientHelp =
     "quotient rule on theirs), the grid sensitivities, the mesh adjoint through the\n"
     "elasticity increments and the FFD chain. The cost does not depend on the number of variables.\n"
     "\n"
-    "  --functionals LIST  comma-separated: CL, CD, CM, CY, CL/CD (default CL,CD,CL/CD)\n"
+    "  --functionals LIST  comma-separated: CL, CD, CM, CY, CL/CD, wall_mach (default CL,CD,CL/CD);\n"
+    "                      wall_mach is the smooth maximum of the wall's local Mach number that\n"
+    "                      optimization.max_wall_mach bounds (about that bound, or 1 without one)\n"
     "  --csv FILE          one row per design variable (name, value, one column per functional)\n"
     "  --json              the values, gradients and stage times as JSON on stdout\n"
     "  --help              this text\n"
@@ -109,6 +111,8 @@ int runGradient(const std::string& casePath, const std::vector<std::string>& nam
                      e.flow->report.iterations, e.secondsFlow));
         study::GradientOptions o;
         o.functionals = names;
+        o.wallMachRho = study::kWallMachRho;
+        o.wallMachReference = c.optimization.maxWallMach > 0 ? c.optimization.maxWallMach : 1.0;
         const study::GradientResult g = study::computeGradient(ev, e, o, [&](const std::string& s) { say(cmd, s); });
         if (!g.ok) throw Error(g.message);
         const std::vector<ffd::DesignVariable> vars =

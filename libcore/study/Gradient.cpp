@@ -29,7 +29,7 @@ void checkGradientFunctional(const std::string& name) {
     try {
         (void)adjoint::functionalByName(name);
     } catch (const CaseError&) {
-        throw CaseError("unknown functional '" + name + "' (expected CL, CD, CM, CY, CL/CD or pressure)");
+        throw CaseError("unknown functional '" + name + "' (expected CL, CD, CM, CY, CL/CD, pressure or wall_mach)");
     }
 }
 

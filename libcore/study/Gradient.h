@@ -32,6 +32,8 @@ inline constexpr const char* kWallBend = "wall_bend";
 /// The name of the wall Mach number's smooth maximum (adjoint::wallMachSmoothMax) in
 /// GradientResult::functionals (requested with GradientOptions::wallMachRho).
 inline constexpr const char* kWallMach = "wall_mach";
+/// Its aggregation's rho (the optimizer's max_wall_mach constraint and the CLI's gradient).
+inline constexpr double kWallMachRho = 50;
 
 struct GradientOptions {
     std::vector<std::string> functionals{"CL", "CD"};

@@ -37,7 +37,6 @@ namespace {
 
 constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (io/Options.cpp documents it)
 constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - cos of the bend)
-constexpr double kWallMachRho = 50;     // the wall-Mach constraint's
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The status of a converged flow refused by optimization.max_entropy or max_entropy_rise.
 constexpr const char* kUnresolved = "flow-unresolved";
