@@ -51,6 +51,8 @@ constexpr Shown kConstraints[] = {
     {"lift_constraint", "Keep &CL"},
     {"target_cl", "Target CL"},
     {"min_corner_ratio", "Grid corner ratio \u2265"},
+    {"max_wall_bend", "Wall bend \u2264"},
+    {"max_wall_mach", "Wall Mach \u2264"},
     {"alpha_variable", "&Alpha a variable"},
     {"alpha_lower", "Alpha from"},
     {"alpha_upper", "Alpha to"},
