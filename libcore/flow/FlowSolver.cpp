@@ -211,9 +211,8 @@ GmresReport StepSystem::solve(const double* r, double* dq, double tolerance) {
     const LinearMap M = [&](const double* in, double* out) { ilu_.solve(in, out); };
     // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
     // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
-    GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, tolerance, n_.linearFailure,
+    const GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, tolerance, n_.linearFailure,
                           n_.gmresDeflation, n_.gmresSingleBasis || lowMemory_};
-    if (std::getenv("AF_NOGIVEUP") && exact_) { go.hopeless = 0; go.maxIterations = std::atoi(std::getenv("AF_NOGIVEUP")); }
     for (long i = 0; i < n; ++i) rhs_[i] = -r[i];
     std::fill(dq, dq + n, 0.0);
     return gmres(n, A, M, rhs_.data(), dq, go, &krylov_);
