@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include "RandomVector.h"
 #include "adjoint/FlowAdjoint.h"
@@ -49,6 +50,23 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 const study::Evaluation& baseState() {
     static const study::Evaluation e = solve(1.2);
     return e;
+}
+
+// fn's state gradient along a random direction, and the centred difference of its value there.
+std::pair<double, double> stateDerivative(const adjoint::Functional& fn, const study::FlowResult& f,
+                                          const flow::ForceReference& ref, unsigned seed) {
+    const flow::FreeStream& fs = f.residualOptions.freeStream;
+    const std::vector<double> g = adjoint::stateGradient(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
+    const std::vector<double> dir = randomVector(f.q.size(), seed);
+    const double h = 1e-6;
+    std::vector<double> qp = f.q, qm = f.q;
+    for (std::size_t i = 0; i < qp.size(); ++i) {
+        qp[i] += h * dir[i];
+        qm[i] -= h * dir[i];
+    }
+    const double fd = (adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qp, fs, ref) -
+                       adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qm, fs, ref)) / (2 * h);
+    return {dot(g, dir), fd};
 }
 
 }  // namespace
@@ -137,17 +155,8 @@ TEST(Functionals, PressureMismatchWeighsTheWallsAreaAndHasExactStateGradients) {
     const adjoint::Functional fn = adjoint::Functional::pressureMismatch(target);
     EXPECT_STREQ(adjoint::functionalName(fn), "pressure");
     EXPECT_EQ(adjoint::alphaPartial(fn, f.forces), 0.0);
-    const std::vector<double> g = adjoint::stateGradient(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
-    const std::vector<double> dir = randomVector(f.q.size(), 9);
-    const double h = 1e-6;
-    std::vector<double> qp = f.q, qm = f.q;
-    for (std::size_t i = 0; i < qp.size(); ++i) {
-        qp[i] += h * dir[i];
-        qm[i] -= h * dir[i];
-    }
-    const double fd = (adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qp, fs, ref) -
-                       adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qm, fs, ref)) / (2 * h);
-    EXPECT_NEAR(dot(g, dir), fd, 1e-7 * std::abs(fd));
+    const auto [exact, fd] = stateDerivative(fn, f, ref, 9);
+    EXPECT_NEAR(exact, fd, 1e-7 * std::abs(fd));
     std::vector<double> wrong(p.size() - 1, 0.0);
     EXPECT_THROW((void)adjoint::functionalValue(adjoint::Functional::pressureMismatch(wrong), f.mesh, f.metrics, f.x, f.q, fs, ref),
                  GeometryError);
@@ -186,18 +195,9 @@ TEST(Functionals, WallMachSumBoundsTheLargestWallMachNumberWithExactStateGradien
     EXPECT_THROW((void)adjoint::functionalValue(fn, f.forces), Error);
     EXPECT_THROW((void)adjoint::Functional::wallMachSum(0, 0.9), Error);
     EXPECT_THROW((void)adjoint::Functional::wallMachSum(50, 0), Error);
-    const std::vector<double> g = adjoint::stateGradient(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
-    const std::vector<double> dir = randomVector(f.q.size(), 13);
-    const double h = 1e-6;
-    std::vector<double> qp = f.q, qm = f.q;
-    for (std::size_t i = 0; i < qp.size(); ++i) {
-        qp[i] += h * dir[i];
-        qm[i] -= h * dir[i];
-    }
-    const double fd = (adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qp, fs, ref) -
-                       adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, qm, fs, ref)) / (2 * h);
+    const auto [exact, fd] = stateDerivative(fn, f, ref, 13);
     EXPECT_GT(std::abs(fd), 0.0);
-    EXPECT_NEAR(dot(g, dir), fd, 1e-7 * std::abs(fd));
+    EXPECT_NEAR(exact, fd, 1e-7 * std::abs(fd));
     // d(smooth max)/dS against a centred difference in S.
     const double S = adjoint::functionalValue(fn, f.mesh, f.metrics, f.x, f.q, fs, ref);
     double dS = 0;
