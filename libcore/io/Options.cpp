@@ -370,8 +370,9 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "flow regime: a smooth maximum (Kreisselmeier-Steinhauser, rho 50) of the local Mach number "
                             "at the wall nodes is kept below this, with its exact gradient (a flow adjoint of its own "
                             "per gradient), so the optimizer does not climb by growing supersonic pockets and shocks, "
-                            "whose Euler flows stop converging on finer grids (docs/validation.md); the aggregate is "
-                            "above the largest wall Mach number by up to about 0.05; 0: no such constraint"));
+                            "whose Euler flows stop converging on finer grids (docs/validation.md); near the bound the "
+                            "aggregate is above the largest wall Mach number by up to about 0.05 (more below it); 0: no "
+                            "such constraint"));
         o.push_back(real<O>("max_entropy", "", 0, true, 100, false, [](O& c) -> double& { return c.maxEntropy; },
                             "flow credibility: an evaluation whose flow converges with a largest entropy error "
                             "|s - s_inf| above this is reported to the optimizer as failed (status flow-unresolved), "
