@@ -254,9 +254,10 @@ GradientResult computeGradient(CaseEvaluator& ev, const Evaluation& e, const Gra
             res.functionals.push_back(quotient(baseOf(adjoint::Functional::CL), baseOf(adjoint::Functional::CD)));
         } else if (name == kWallMach) {
             // The smooth maximum instead of the sum: its chain rule on every part of the gradient.
-            FunctionalGradient r = baseOf(byName(name));
+            const adjoint::Functional sum = byName(name);
+            FunctionalGradient r = baseOf(sum);
             double dS = 0;
-            r.value = adjoint::wallMachSmoothMax(byName(name), r.value, &dS);
+            r.value = adjoint::wallMachSmoothMax(sum, r.value, &dS);
             for (double& x : r.dv) x *= dS;
             r.dalpha *= dS;
             for (double& x : r.dUnique) x *= dS;
