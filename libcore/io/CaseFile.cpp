@@ -496,7 +496,7 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
     }
     if (doc.contains("optimization")) {
         const json& j = doc["optimization"];
-        std::vector<std::string> allowed{"history", "iterations", "target_pressure"};
+        std::vector<std::string> allowed{"history", "iterations", "target_pressure", "start_design"};
         for (const auto& o : optimizationOptions()) allowed.push_back(o.spec.key);
         ctx.keys(j, "optimization", allowed);
         OptimizationCase& oc = c.optimization;
@@ -517,6 +517,12 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         if (j.contains("iterations")) oc.iterations = resolve(path, ctx.string(j["iterations"], "optimization.iterations"));
         if (j.contains("target_pressure")) {
             oc.targetPressure = resolve(path, ctx.string(j["target_pressure"], "optimization.target_pressure"));
+        }
+        if (j.contains("start_design")) {
+            oc.startDesign = resolve(path, ctx.string(j["start_design"], "optimization.start_design"));
+            if (std::filesystem::path(oc.startDesign).extension() != ".json") {
+                ctx.fail("optimization.start_design", "must be a case file (.json), e.g. one aeroform-cli optimize --design N writes");
+            }
         }
         if (oc.objective == "pressure" && oc.targetPressure.empty()) {
             ctx.fail("optimization.target_pressure", "missing: the objective 'pressure' needs the target's wall pressures (a CSV "

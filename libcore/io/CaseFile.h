@@ -114,6 +114,11 @@ struct OptimizationCase {
                                        // --resume replays); resolved; default beside the case
     std::string iterations;            // folder for each major iteration's shape (IGES, VTK);
                                        // resolved; empty: none
+    std::string startDesign;           // a case whose design values (and flow.alpha, when alpha is
+                                       // a variable) the optimizer starts from, e.g. the best design
+                                       // of a run on a coarser grid; the problem stays this case's
+                                       // (min_volume "initial" is this case's own design's volume);
+                                       // resolved; empty: this case's own values
 };
 
 /// Minimum thickness (case key "constraints.thickness"): measured along z at every station y times

@@ -201,6 +201,7 @@ Json caseJson(const CaseFile& c) {
         if (!c.optimization.history.empty()) j["history"] = storedPath(c.optimization.history, c.path);
         if (!c.optimization.iterations.empty()) j["iterations"] = storedPath(c.optimization.iterations, c.path);
         if (!c.optimization.targetPressure.empty()) j["target_pressure"] = storedPath(c.optimization.targetPressure, c.path);
+        if (!c.optimization.startDesign.empty()) j["start_design"] = storedPath(c.optimization.startDesign, c.path);
         doc["optimization"] = std::move(j);
     }
     Json o = Json::object();

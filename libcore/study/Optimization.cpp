@@ -344,6 +344,35 @@ std::vector<double> variableScales(const io::OptimizationCase& oc, const std::ve
 // ... and its alpha, the angle of attack divided by this (degrees per unit).
 double alphaScale(const io::OptimizationCase& oc) { return oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0; }
 
+// The design an optimization starts from: the case's own, or the design values (and flow.alpha,
+// when alpha is a variable) of the case optimization.start_design names. Throws CaseError naming
+// that key and the start case's variable or value that does not fit this case's problem.
+struct StartDesign {
+    std::vector<double> values;
+    double alphaDeg = 0;
+    int changed = 0;  // design variables that differ from the case's own values
+};
+StartDesign startDesign(const io::CaseFile& c, const ffd::FfdModel& model) {
+    const io::OptimizationCase& oc = c.optimization;
+    StartDesign s{io::designValues(c, model), c.flow.freeStream.alphaDeg, 0};
+    if (oc.startDesign.empty()) return s;
+    const std::string key = "'" + c.path + "': optimization.start_design: ";
+    const std::vector<double> own = s.values;
+    try {
+        const io::CaseFile from = io::readCase(oc.startDesign);
+        s.values = io::designValues(from, model);
+        if (oc.alphaVariable && from.flow.present) s.alphaDeg = from.flow.freeStream.alphaDeg;
+    } catch (const Error& e) {
+        throw CaseError(key + e.what());
+    }
+    if (oc.alphaVariable && !(s.alphaDeg >= oc.alphaLower && s.alphaDeg <= oc.alphaUpper)) {
+        throw CaseError(key + format("'%s' has flow.alpha %.6g, outside [alpha_lower, alpha_upper] = [%.6g, %.6g]",
+                                     oc.startDesign.c_str(), s.alphaDeg, oc.alphaLower, oc.alphaUpper));
+    }
+    for (std::size_t i = 0; i < own.size(); ++i) s.changed += s.values[i] != own[i] ? 1 : 0;
+    return s;
+}
+
 }  // namespace
 
 bool hasConvergedFlow(const OptimizationRecord& r) {
@@ -477,18 +506,28 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     const std::vector<double> scale = variableScales(oc, vars);
     OptimizationSummary summary;
     optimize::Problem p;
+    // Where the optimizer starts: this case's own design, or that of optimization.start_design
+    // (e.g. the best design of a run on a coarser grid). The problem is this case's either way.
+    const StartDesign start = startDesign(c, model);
+    std::vector<double> caseStart;  // this case's own design, scaled: what min_volume "initial" means
     for (int i = 0; i < nv; ++i) {
         p.lower.push_back(vars[i].lower / scale[i]);
         p.upper.push_back(vars[i].upper / scale[i]);
-        p.start.push_back(ev.caseValues()[i] / scale[i]);
+        p.start.push_back(start.values[i] / scale[i]);
+        caseStart.push_back(ev.caseValues()[i] / scale[i]);
         summary.names.push_back(vars[i].name);
     }
     const double alphaUnit = alphaScale(oc);
     if (withAlpha) {
         p.lower.push_back(oc.alphaLower / alphaUnit);
         p.upper.push_back(oc.alphaUpper / alphaUnit);
-        p.start.push_back(c.flow.freeStream.alphaDeg / alphaUnit);
+        p.start.push_back(start.alphaDeg / alphaUnit);
         summary.names.push_back("alpha");
+    }
+    if (!oc.startDesign.empty()) {
+        say(format("starting from the design of '%s' (%d of %d design variables away from this case's own%s)",
+                   oc.startDesign.c_str(), start.changed, nv,
+                   withAlpha ? format(", alpha %.6g deg", start.alphaDeg).c_str() : ""));
     }
     auto design = [&](const std::vector<double>& u) {
         std::vector<double> v(nv);
@@ -510,7 +549,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.upper = lc.upper;
         if (!r.index.empty()) p.linear.push_back(std::move(r));
     }
-    summary.startVolume = model.volume(design(p.start));
+    summary.startVolume = model.volume(design(caseStart));
     const bool volumeConstraint = c.minVolume.has_value();
     const double infinity = std::numeric_limits<double>::infinity();
     if (volumeConstraint && !(summary.startVolume > 0)) {
@@ -519,7 +558,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         // has a negative one. The constraint is the volume's ratio to the start's, so a bound
         // given as a number would then be met by every such shape (the ratio's sign flips), and
         // the history's volumes would read negative: the user orients the patches instead.
-        throw InputError("constraints.min_volume: the start shape's enclosed volume is " + format("%.6g", summary.startVolume) +
+        throw InputError("constraints.min_volume: the case's design's enclosed volume is " + format("%.6g", summary.startVolume) +
                          " (1/3 of the flux of x through the patches, the body closed by the symmetry plane Y = 0): "
                          "its patches' normals point into the body, or it is not a half-body closed by Y = 0; "
                          "reverse the patches' orientation, or drop min_volume");

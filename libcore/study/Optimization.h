@@ -94,8 +94,11 @@ struct OptimizationSummary {
     std::vector<double> values;          // the best design (design variables)
     double alphaDeg = 0;
     flow::ForceCoefficients forces;      // at the best design
-    double J = 0, volume = 0, startVolume = 0;
-    geometry::Planform planform, startPlanform;  // of the best and the starting shape
+    double J = 0, volume = 0;
+    double startVolume = 0;              // of the case's own design: the volume constraint's
+                                         // reference (the optimizer's start too, unless
+                                         // optimization.start_design names another)
+    geometry::Planform planform, startPlanform;  // of the best and the optimizer's starting shape
     int replayedEvaluations = 0, replayedGradients = 0;
     int coldFlowIterations = 0;          // the first evaluation's flow iterations (cold start)
     int warmStarts = 0;                  // evaluations warm-started ...

@@ -228,7 +228,7 @@ TEST(Options, OptimizationTableDrivesParserWriterAndDocumentation) {
     std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"alpha": 2},
         "optimization": {"objective": "CD", "sense": "minimize", "optimizer": "slsqp", "max_evaluations": 7,
                          "alpha_variable": true, "lift_constraint": true, "target_cl": 0.3,
-                         "history": "runs/h.csv", "iterations": "runs/shapes"}})";
+                         "history": "runs/h.csv", "iterations": "runs/shapes", "start_design": "runs/e63.json"}})";
     const io::CaseFile c = io::readCase(path);
     const io::OptimizationCase& o = c.optimization;
     EXPECT_TRUE(o.present);
@@ -241,11 +241,13 @@ TEST(Options, OptimizationTableDrivesParserWriterAndDocumentation) {
     EXPECT_EQ(o.targetCL, 0.3);
     EXPECT_EQ(o.history, dir + "/runs/h.csv");
     EXPECT_EQ(o.iterations, dir + "/runs/shapes");
+    EXPECT_EQ(o.startDesign, dir + "/runs/e63.json");
     const io::CaseFile back = io::parseCase(io::formatCase(c), path);
     EXPECT_EQ(back.optimization.objective, "CD");
     EXPECT_FALSE(back.optimization.maximize);
     EXPECT_EQ(back.optimization.history, o.history);
     EXPECT_EQ(back.optimization.iterations, o.iterations);
+    EXPECT_EQ(back.optimization.startDesign, o.startDesign);
     EXPECT_EQ(back.optimization.targetCL, 0.3);
     // Default history beside the case; the errors name the key.
     std::ofstream(path) << R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {}})";
@@ -264,6 +266,8 @@ TEST(Options, OptimizationTableDrivesParserWriterAndDocumentation) {
             "optimization.objective");
     refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {"history": "h.txt"}})",
             "optimization.history: must end in .csv");
+    refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {"start_design": "e63.csv"}})",
+            "optimization.start_design: must be a case file");
     refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {"alpha": 20},
                "optimization": {"alpha_variable": true}})", "outside [alpha_lower, alpha_upper]");
     refused(R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "flow": {}, "optimization": {"max_iterations": 0}})",

@@ -20,6 +20,7 @@
 #include "ffd/ShapeConstraints.h"
 #include "geometry/EnclosedVolume.h"
 #include "io/CaseFile.h"
+#include "io/CaseWriter.h"
 #include "io/FlowFiles.h"
 #include "mesh/Quality.h"
 #include "study/CaseEvaluator.h"
@@ -452,6 +453,77 @@ TEST(Optimization, AMinimumVolumeOnPatchesFacingInwardIsRefusedWithTheReason) {
         EXPECT_NE(m.find("normals point into the body"), std::string::npos) << m;
     }
     EXPECT_EQ(records, 0);
+}
+
+// optimization.start_design: a run on a finer grid starts from a coarser run's design (a case of
+// its own, as `aeroform-cli optimize --design` writes it). The optimizer's first point is that
+// design, bit for bit; the problem stays the case's own: the volume constraint's reference is the
+// case's own design (the sphere), not the start. A start that does not fit is refused before any
+// evaluation, naming the key and the variable.
+TEST(Optimization, ARunStartsFromAnotherCasesDesignWithTheCasesOwnProblem) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/start_design";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    io::CaseFile c = oneEvaluation(dir);
+    ASSERT_TRUE(c.minVolume.has_value());
+    const geometry::PatchSet sphere = study::loadGeometry(c.geometry);
+    const study::CaseEvaluator probe(c, sphere);
+    const ffd::FfdModel& model = *probe.model();
+    const std::vector<ffd::DesignVariable>& vars = model.design().variables();
+    std::vector<double> v = probe.caseValues();
+    int moved = 0;
+    for (std::size_t i = 0; i < vars.size(); ++i) {
+        const std::string& name = vars[i].name;
+        if (name.size() > 3 && name.compare(name.size() - 3, 3, ".sz") == 0) {
+            v[i] = 1.1;  // every section 10 % taller: a body whose volume is not the sphere's
+            ++moved;
+        }
+    }
+    ASSERT_GT(moved, 10);
+    const std::string startPath = dir + "/start.json";
+    io::writeCase(probe.designCase(v, std::nullopt, "a start design"), startPath);
+    c.optimization.startDesign = startPath;
+
+    study::CaseEvaluator ev(c, sphere);
+    study::OptimizationOptions o;
+    o.fresh = true;
+    std::vector<study::OptimizationRecord> values;
+    o.onRecord = [&](const study::OptimizationRecord& r) {
+        if (r.kind == study::OptimizationRecord::Kind::Values) values.push_back(r);
+    };
+    const study::OptimizationSummary s = study::optimizeCase(ev, o);
+    ASSERT_GE(values.size(), 1u);
+    ASSERT_EQ(values[0].x.size(), v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(values[0].x[i], v[i]) << vars[i].name;
+    const double sphereVolume = model.volume(probe.caseValues()), startVolume = model.volume(v);
+    EXPECT_GT(startVolume, 1.05 * sphereVolume);
+    EXPECT_EQ(s.startVolume, sphereVolume);
+    ASSERT_TRUE(values[0].ok) << values[0].message;
+    ASSERT_GE(values[0].constraints.size(), 1u);
+    EXPECT_NEAR(values[0].constraints[0], startVolume / sphereVolume, 1e-9);
+
+    auto refused = [&](const std::string& body, const std::vector<std::string>& words) {
+        std::ofstream(startPath) << body;
+        study::CaseEvaluator e(c, sphere);
+        int records = 0;
+        study::OptimizationOptions q;
+        q.fresh = true;
+        q.onRecord = [&](const study::OptimizationRecord&) { ++records; };
+        try {
+            (void)study::optimizeCase(e, q);
+            ADD_FAILURE() << "the run started from " << body;
+        } catch (const CaseError& x) {
+            const std::string m = x.what();
+            EXPECT_NE(m.find("optimization.start_design"), std::string::npos) << m;
+            for (const std::string& w : words) EXPECT_NE(m.find(w), std::string::npos) << m;
+        }
+        EXPECT_EQ(records, 0);
+    };
+    const std::string head = R"({"format": "aeroform.case", "version": 1, "geometry": "g.igs", "values": {")";
+    refused(head + vars[0].name + "\": " + format("%.17g", vars[0].upper + 1) + "}}", {vars[0].name, "outside the bounds"});
+    refused(head + "no_such_variable\": 0.1}}", {"no_such_variable", "no design variable of that name"});
+    std::filesystem::remove(startPath);
+    refused("", {"start.json"});
 }
 
 TEST(Optimization, ThicknessLatticeJacobianWallBendAndWallMachConstraintsReachTheOptimizer) {
