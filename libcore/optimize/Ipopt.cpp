@@ -18,12 +18,13 @@ using Ipopt::Index;
 using Ipopt::Number;
 
 constexpr double kInfinity = 1e19;  // Ipopt's default nlp_lower/upper_bound_inf magnitude
+constexpr int kMaxRestarts = 5;     // Ipopt runs started again after a gradient failed
 
 double bound(double v) { return std::isinf(v) ? (v < 0 ? -kInfinity : kInfinity) : v; }
 
 class Nlp : public Ipopt::TNLP {
 public:
-    explicit Nlp(Tracker& t) : t_(t), p_(t.problem()) {}
+    Nlp(Tracker& t, std::vector<double> start) : t_(t), p_(t.problem()), start_(std::move(start)) {}
 
     bool get_nlp_info(Index& n, Index& m, Index& nnzJac, Index& nnzHess, IndexStyleEnum& style) override {
         n = p_.size();
@@ -63,7 +64,7 @@ public:
     bool get_starting_point(Index n, bool initX, Number* x, bool initZ, Number*, Number*, Index, bool initLambda,
                             Number*) override {
         if (!initX || initZ || initLambda) return false;
-        for (Index i = 0; i < n; ++i) x[i] = p_.start[i];
+        for (Index i = 0; i < n; ++i) x[i] = start_[i];
         return true;
     }
 
@@ -146,6 +147,7 @@ public:
 private:
     Tracker& t_;
     const Problem& p_;
+    const std::vector<double> start_;
     bool converged_ = false;
     Ipopt::SolverReturn status_ = Ipopt::UNASSIGNED;
 };
@@ -157,46 +159,65 @@ public:
     Result minimize(const Problem& p, const Settings& s) override {
         p.check();
         Tracker t(p, s);
-        Ipopt::SmartPtr<Nlp> nlp = new Nlp(t);
-        Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-        Ipopt::OptionsList& o = *app->Options();
-        o.SetStringValue("sb", "yes");  // no banner
-        o.SetIntegerValue("print_level", 0);
-        o.SetStringValue("hessian_approximation", "limited-memory");
-        o.SetStringValue("mu_strategy", "adaptive");
-        o.SetStringValue("nlp_scaling_method", "none");  // the caller scales its variables
-        o.SetNumericValue("tol", s.optimalityTolerance);
-        o.SetNumericValue("constr_viol_tol", s.feasibilityTolerance);
-        o.SetNumericValue("dual_inf_tol", s.optimalityTolerance);
-        o.SetIntegerValue("max_iter", s.maxIterations);
-        o.SetNumericValue("bound_relax_factor", 0.0);  // the bounds are the user's, exactly
-        if (app->Initialize() != Ipopt::Solve_Succeeded) return t.result(Status::Failed, "Ipopt could not start");
-        const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(nlp);
-        if (nlp->converged() || r == Ipopt::Solve_Succeeded) {
-            return t.result(Status::Converged, "optimality and feasibility within their tolerances");
-        }
-        if (t.stopped()) {
-            return t.result(t.stopStatus(), t.stopStatus() == Status::Cancelled ? "cancelled" : "the evaluation limit was reached");
-        }
-        switch (r) {
-            case Ipopt::Solved_To_Acceptable_Level:
-                return t.result(Status::Stalled, "Ipopt stopped at an acceptable point (its tolerances not reached)");
-            case Ipopt::Maximum_Iterations_Exceeded:
-                return t.result(Status::IterationLimit, "the iteration limit was reached");
-            case Ipopt::Infeasible_Problem_Detected:
-                return t.result(Status::Infeasible, "Ipopt converged to a point of locally minimal infeasibility");
-            case Ipopt::Search_Direction_Becomes_Too_Small:
-                return t.result(Status::Stalled, "the search direction became too small");
-            case Ipopt::Restoration_Failed:
-                return t.result(Status::Stalled, "Ipopt's feasibility restoration failed" +
-                                                     (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
-            case Ipopt::Invalid_Number_Detected:
-            case Ipopt::Error_In_Step_Computation:
-                return t.result(Status::Failed, "Ipopt could not continue" +
-                                                    (t.lastFailure().empty() ? std::string() : ": " + t.lastFailure()));
-            default:
-                return t.result(Status::Failed, "Ipopt stopped with status " + std::to_string(static_cast<int>(r)) +
-                                                    (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
+        std::vector<double> start = p.start;
+        for (int restarts = 0;; ++restarts) {
+            Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, start);
+            Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+            Ipopt::OptionsList& o = *app->Options();
+            o.SetStringValue("sb", "yes");  // no banner
+            o.SetIntegerValue("print_level", 0);
+            o.SetStringValue("hessian_approximation", "limited-memory");
+            o.SetStringValue("mu_strategy", "adaptive");
+            o.SetStringValue("nlp_scaling_method", "none");  // the caller scales its variables
+            o.SetNumericValue("tol", s.optimalityTolerance);
+            o.SetNumericValue("constr_viol_tol", s.feasibilityTolerance);
+            o.SetNumericValue("dual_inf_tol", s.optimalityTolerance);
+            o.SetIntegerValue("max_iter", std::max(1, s.maxIterations - t.iterations()));
+            o.SetNumericValue("bound_relax_factor", 0.0);  // the bounds are the user's, exactly
+            if (app->Initialize() != Ipopt::Solve_Succeeded) return t.result(Status::Failed, "Ipopt could not start");
+            const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(nlp);
+            if (nlp->converged() || r == Ipopt::Solve_Succeeded) {
+                return t.result(Status::Converged, "optimality and feasibility within their tolerances");
+            }
+            if (t.stopped()) {
+                return t.result(t.stopStatus(), t.stopStatus() == Status::Cancelled ? "cancelled" : "the evaluation limit was reached");
+            }
+            // Ipopt cannot cut a step whose values it has accepted: a gradient that fails there (a
+            // converged flow whose adjoint does not converge, e.g. next to a turning point of the
+            // steady states) ends its run. That point is made a failed evaluation and Ipopt starts
+            // again from the last iterate, its quasi-Newton memory lost, so a step back to it is cut.
+            const std::vector<double> failed = t.failedGradientPoint();
+            const std::vector<double>& last = t.lastGradientPoint();
+            if ((r == Ipopt::Invalid_Number_Detected || r == Ipopt::Error_In_Step_Computation) && !failed.empty() &&
+                !last.empty() && last != failed && restarts < kMaxRestarts && t.iterations() < s.maxIterations) {
+                const std::string why = "its gradient could not be computed (" + t.lastFailure() + ")";
+                t.log("the gradient failed at a point Ipopt had accepted: " + t.lastFailure() + "; Ipopt starts again from iteration " +
+                      std::to_string(t.iterations()) + "'s point, and that point counts as a failed evaluation");
+                t.refuse(failed, why);
+                t.restarted();
+                start = last;
+                continue;
+            }
+            switch (r) {
+                case Ipopt::Solved_To_Acceptable_Level:
+                    return t.result(Status::Stalled, "Ipopt stopped at an acceptable point (its tolerances not reached)");
+                case Ipopt::Maximum_Iterations_Exceeded:
+                    return t.result(Status::IterationLimit, "the iteration limit was reached");
+                case Ipopt::Infeasible_Problem_Detected:
+                    return t.result(Status::Infeasible, "Ipopt converged to a point of locally minimal infeasibility");
+                case Ipopt::Search_Direction_Becomes_Too_Small:
+                    return t.result(Status::Stalled, "the search direction became too small");
+                case Ipopt::Restoration_Failed:
+                    return t.result(Status::Stalled, "Ipopt's feasibility restoration failed" +
+                                                         (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
+                case Ipopt::Invalid_Number_Detected:
+                case Ipopt::Error_In_Step_Computation:
+                    return t.result(Status::Failed, "Ipopt could not continue" +
+                                                        (t.lastFailure().empty() ? std::string() : ": " + t.lastFailure()));
+                default:
+                    return t.result(Status::Failed, "Ipopt stopped with status " + std::to_string(static_cast<int>(r)) +
+                                                        (t.lastFailure().empty() ? std::string() : " (last failure: " + t.lastFailure() + ")"));
+            }
         }
     }
 };

@@ -4,7 +4,9 @@
 // and one line of the table in Optimizer.cpp. Both stop on the same first-order optimality
 // measure (optimize::firstOrderOptimality), count evaluations the same way and survive failed
 // evaluations: Ipopt cuts its line-search step, SLSQP is restarted by a backtracking driver from
-// the last good iterate inside a box of half the failed step.
+// the last good iterate inside a box of half the failed step. A gradient that fails at a point
+// Ipopt has accepted (where it cannot cut back) makes that point a failed evaluation, and Ipopt
+// starts again from the last iterate.
 #include <memory>
 #include <string>
 #include <vector>

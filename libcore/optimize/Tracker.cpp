@@ -26,6 +26,12 @@ Tracker::Entry* Tracker::find(const double* x) {
 }
 
 const Values* Tracker::values(const double* x) {
+    for (const auto& [point, why] : refused_) {
+        if (std::memcmp(point.data(), x, point.size() * sizeof(double)) == 0) {
+            lastFailure_ = why;
+            return nullptr;
+        }
+    }
     if (Entry* e = find(x)) {
         if (!e->v.ok) {
             lastFailure_ = e->v.message;
@@ -104,7 +110,10 @@ const Gradients* Tracker::gradients(const double* x) {
                 e->g.message = "a constraint gradient has the wrong size";
             }
         }
-        if (!e->g.ok) ++failures_;
+        if (!e->g.ok) {
+            ++failures_;
+            failedGradientX_ = e->x;
+        }
     }
     if (!e->g.ok) {
         lastFailure_ = e->g.message;
@@ -114,10 +123,21 @@ const Gradients* Tracker::gradients(const double* x) {
     return &e->g;
 }
 
+void Tracker::refuse(const std::vector<double>& x, const std::string& why) {
+    refused_.emplace_back(x, why);
+    if (failedGradientX_ == x) failedGradientX_.clear();
+}
+
 bool Tracker::iterate(int k, const double* x) {
     const Gradients* g = gradients(x);
     if (!g) return false;
     Entry* e = find(x);
+    if (restarted_ && k == 0) {
+        // The restart point: reported already as the iteration the backend starts from again.
+        return firstOrderOptimality(p_, e->x, e->v, *g, std::max(s_.feasibilityTolerance, 1e-9)) <= s_.optimalityTolerance &&
+               feasibility(p_, e->x, e->v.constraints) <= s_.feasibilityTolerance;
+    }
+    k += iterationOffset_;
     e->reported = ++reports_;
     Iteration it;
     it.iteration = k;

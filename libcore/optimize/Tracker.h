@@ -5,6 +5,7 @@
 // the best point, and the major iterations reported with the common optimality measure.
 #include <deque>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "optimize/Problem.h"
@@ -35,6 +36,19 @@ public:
     /// before the first.
     const std::vector<double>& lastGradientPoint() const { return lastGradientX_; }
 
+    /// The point of the last gradient that failed where the values had succeeded (a converged flow
+    /// whose adjoint did not converge); empty when none failed since the last refuse().
+    const std::vector<double>& failedGradientPoint() const { return failedGradientX_; }
+    /// Makes x a failed evaluation from now on (values() returns null there, with `why`), so a
+    /// backend restarted from an earlier iterate cuts a step that comes back to it.
+    void refuse(const std::vector<double>& x, const std::string& why);
+    /// A backend starts again from the last iterate: its iteration k is reported as the
+    /// iterations so far + k, and its iteration 0 (that iterate, reported already) not again.
+    void restarted() {
+        iterationOffset_ = iterations_;
+        restarted_ = true;
+    }
+
     /// The result: the best point evaluated (lowest objective among the feasible ones, else the
     /// least infeasible), with the given status.
     Result result(Status status, const std::string& message) const;
@@ -62,6 +76,10 @@ private:
     std::string lastFailure_;
     int evaluations_ = 0, gradientCalls_ = 0, failures_ = 0, iterations_ = 0, reports_ = 0;
     std::vector<double> lastGradientX_;
+    std::vector<double> failedGradientX_;
+    std::vector<std::pair<std::vector<double>, std::string>> refused_;  // points made failed, and why
+    int iterationOffset_ = 0;
+    bool restarted_ = false;
     // The best point so far.
     std::vector<double> bestX_;
     double bestF_ = 0, bestInfeasibility_ = 0, bestOptimality_ = -1;
