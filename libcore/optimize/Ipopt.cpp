@@ -124,10 +124,11 @@ public:
         return true;
     }
 
-    bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number, Number, Number, Number, Number, Number,
+    bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number, Number, Number, Number mu, Number, Number,
                                Number, Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
         if (t_.stopped()) return false;
         if (mode != Ipopt::RegularMode || t_.lastGradientPoint().empty()) return true;  // restoration: not an iterate
+        mu_ = mu;
         if (t_.iterate(iter, t_.lastGradientPoint().data())) {
             converged_ = true;
             return false;
@@ -142,6 +143,7 @@ public:
     }
 
     bool converged() const { return converged_; }
+    double mu() const { return mu_; }  // the barrier parameter at the last regular iterate (0: none)
     Ipopt::SolverReturn status() const { return status_; }
 
 private:
@@ -149,6 +151,7 @@ private:
     const Problem& p_;
     const std::vector<double> start_;
     bool converged_ = false;
+    double mu_ = 0;
     Ipopt::SolverReturn status_ = Ipopt::UNASSIGNED;
 };
 
@@ -160,6 +163,7 @@ public:
         p.check();
         Tracker t(p, s);
         std::vector<double> start = p.start;
+        double mu = 0;  // a restart's barrier parameter: where the last run had brought it
         for (int restarts = 0;; ++restarts) {
             Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, start);
             Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
@@ -174,6 +178,13 @@ public:
             o.SetNumericValue("dual_inf_tol", s.optimalityTolerance);
             o.SetIntegerValue("max_iter", std::max(1, s.maxIterations - t.iterations()));
             o.SetNumericValue("bound_relax_factor", 0.0);  // the bounds are the user's, exactly
+            if (mu > 0) {
+                // A restart goes on from an iterate: the barrier where it was, and the point not
+                // pushed away from bounds it may lie close to (Ipopt's warm-start settings).
+                o.SetNumericValue("mu_init", mu);
+                o.SetNumericValue("bound_push", 1e-9);
+                o.SetNumericValue("bound_frac", 1e-9);
+            }
             if (app->Initialize() != Ipopt::Solve_Succeeded) return t.result(Status::Failed, "Ipopt could not start");
             const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(nlp);
             if (nlp->converged() || r == Ipopt::Solve_Succeeded) {
@@ -196,6 +207,7 @@ public:
                 t.refuse(failed, why);
                 t.restarted();
                 start = last;
+                if (nlp->mu() > 0) mu = nlp->mu();
                 continue;
             }
             switch (r) {
