@@ -180,9 +180,15 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
         say(format("%s after %.0f iterations, %.0f evaluations (%.0f failed), %.0f gradients: %s", optimize::statusName(r.status),
                    static_cast<double>(r.iterations), static_cast<double>(r.evaluations),
                    static_cast<double>(r.failedEvaluations), static_cast<double>(r.gradients), r.message.c_str()));
-        say(format("best: %s %.8g, CL %.6f, CD %.6f, volume %.6f (start %.6f), optimality %.2e, feasibility %.2e",
+        say(format("best: %s%s %.8g, CL %.6f, CD %.6f, volume %.6f (start %.6f), optimality %.2e, feasibility %.2e",
+                   s.bestEvaluation > 0 ? format("evaluation %d, ", s.bestEvaluation).c_str() : "",
                    c.optimization.objective.c_str(), s.J, s.forces.CL, s.forces.CD, s.volume, s.startVolume, r.optimality,
                    r.feasibility));
+        if (s.bestEvaluation > 0) {
+            say(format("as a case of its own (e.g. optimization.start_design of a finer grid's run): aeroform-cli optimize %s "
+                       "--design %d OUT.json",
+                       casePath.c_str(), s.bestEvaluation));
+        }
         say(format("best planform: half-span %.4f, projected area %.4f, aspect ratio %.3f (start %.4f, %.4f, %.3f)",
                    s.planform.halfSpan, s.planform.projectedArea, s.planform.aspectRatio, s.startPlanform.halfSpan,
                    s.startPlanform.projectedArea, s.startPlanform.aspectRatio));
@@ -207,6 +213,7 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
             j["status"] = optimize::statusName(r.status);
             j["message"] = r.message;
             j["objective"] = c.optimization.objective;
+            j["best_evaluation"] = s.bestEvaluation;
             j["J"] = s.J;
             j["CL"] = s.forces.CL;
             j["CD"] = s.forces.CD;

@@ -1111,6 +1111,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     summary.volume = model.volume(summary.values);
     summary.startPlanform = planformOf(model.deform(design(p.start)));
     if (const OptimizationRecord* v = csv.valuesAt(best)) {
+        summary.bestEvaluation = v->index;
         summary.J = v->J;
         summary.forces.CL = v->CL;
         summary.forces.CD = v->CD;

@@ -94,6 +94,8 @@ struct OptimizationSummary {
     std::vector<double> values;          // the best design (design variables)
     double alphaDeg = 0;
     flow::ForceCoefficients forces;      // at the best design
+    int bestEvaluation = 0;              // the history's number of the best design's evaluation
+                                         // (0: not in the history, e.g. a failed start)
     double J = 0, volume = 0;
     double startVolume = 0;              // of the case's own design: the volume constraint's
                                          // reference (the optimizer's start too, unless

@@ -150,6 +150,13 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     EXPECT_LT(s.J, 1e-12 * first);
     EXPECT_LE(s.result.evaluations, 60);
     EXPECT_EQ(s.result.failedEvaluations, 0);
+    // The summary names the best design's evaluation (what `optimize --design N` and a finer
+    // run's start_design take): the accepted one of least J.
+    const auto bestRecord = std::min_element(accepted.begin(), accepted.end(),
+                                             [](const auto& a, const auto& b) { return a.J < b.J; });
+    ASSERT_NE(bestRecord, accepted.end());
+    EXPECT_EQ(s.bestEvaluation, bestRecord->index);
+    EXPECT_EQ(s.J, bestRecord->J);
     const std::vector<ffd::DesignVariable>& vars = ev.model()->design().variables();
     ASSERT_EQ(vars.size(), 12u);
     for (std::size_t i = 0; i < vars.size(); ++i) {
