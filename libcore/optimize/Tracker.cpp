@@ -132,11 +132,11 @@ bool Tracker::iterate(int k, const double* x) {
     const Gradients* g = gradients(x);
     if (!g) return false;
     Entry* e = find(x);
-    if (restarted_ && k == 0) {
-        // The restart point: reported already as the iteration the backend starts from again.
-        return firstOrderOptimality(p_, e->x, e->v, *g, std::max(s_.feasibilityTolerance, 1e-9)) <= s_.optimalityTolerance &&
-               feasibility(p_, e->x, e->v.constraints) <= s_.feasibilityTolerance;
-    }
+    const double infeasibility = feasibility(p_, e->x, e->v.constraints);
+    const double optimality = firstOrderOptimality(p_, e->x, e->v, *g, std::max(s_.feasibilityTolerance, 1e-9));
+    const bool done = optimality <= s_.optimalityTolerance && infeasibility <= s_.feasibilityTolerance;
+    // A restarted backend's iteration 0 is the iterate it starts from, reported already.
+    if (restarted_ && k == 0) return done;
     k += iterationOffset_;
     e->reported = ++reports_;
     Iteration it;
@@ -145,12 +145,12 @@ bool Tracker::iterate(int k, const double* x) {
     it.gradients = gradientCalls_;
     it.objective = e->v.objective;
     it.x = e->x;
-    it.feasibility = feasibility(p_, e->x, e->v.constraints);
-    it.optimality = firstOrderOptimality(p_, e->x, e->v, *g, std::max(s_.feasibilityTolerance, 1e-9));
+    it.feasibility = infeasibility;
+    it.optimality = optimality;
     iterations_ = k;
     if (e->x == bestX_) bestOptimality_ = it.optimality;
     if (s_.onIteration) s_.onIteration(it);
-    return it.optimality <= s_.optimalityTolerance && it.feasibility <= s_.feasibilityTolerance;
+    return done;
 }
 
 Result Tracker::result(Status status, const std::string& message) const {

@@ -344,20 +344,19 @@ std::vector<double> variableScales(const io::OptimizationCase& oc, const std::ve
 // ... and its alpha, the angle of attack divided by this (degrees per unit).
 double alphaScale(const io::OptimizationCase& oc) { return oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0; }
 
-// The design an optimization starts from: the case's own, or the design values (and flow.alpha,
-// when alpha is a variable) of the case optimization.start_design names. Throws CaseError naming
-// that key and the start case's variable or value that does not fit this case's problem.
+// The design an optimization starts from: the case's own (`own`), or the design values (and
+// flow.alpha, when alpha is a variable) of the case optimization.start_design names. Throws
+// CaseError naming that key and the start case's variable or value that does not fit this case.
 struct StartDesign {
     std::vector<double> values;
     double alphaDeg = 0;
     int changed = 0;  // design variables that differ from the case's own values
 };
-StartDesign startDesign(const io::CaseFile& c, const ffd::FfdModel& model) {
+StartDesign startDesign(const io::CaseFile& c, const ffd::FfdModel& model, const std::vector<double>& own) {
     const io::OptimizationCase& oc = c.optimization;
-    StartDesign s{io::designValues(c, model), c.flow.freeStream.alphaDeg, 0};
+    StartDesign s{own, c.flow.freeStream.alphaDeg, 0};
     if (oc.startDesign.empty()) return s;
     const std::string key = "'" + c.path + "': optimization.start_design: ";
-    const std::vector<double> own = s.values;
     try {
         const io::CaseFile from = io::readCase(oc.startDesign);
         s.values = io::designValues(from, model);
@@ -508,7 +507,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     optimize::Problem p;
     // Where the optimizer starts: this case's own design, or that of optimization.start_design
     // (e.g. the best design of a run on a coarser grid). The problem is this case's either way.
-    const StartDesign start = startDesign(c, model);
+    const StartDesign start = startDesign(c, model, ev.caseValues());
     std::vector<double> caseStart;  // this case's own design, scaled: what min_volume "initial" means
     for (int i = 0; i < nv; ++i) {
         p.lower.push_back(vars[i].lower / scale[i]);
