@@ -35,8 +35,15 @@ struct NewtonOptions {
     double cflExponent = 1.0;          // CFL = base max(1, (R0/R)^beta)
     double cflMax = 1e12;              // CFL cap (1e12: effectively Newton)
     double cflBackoff = 0.5;           // the CFL base is multiplied by this after a step whose GMRES
-                                       // did not reach linearTolerance (accepted, but a sign that
-                                       // the next, larger CFL would be harder still)
+                                       // missed its tolerance by more than backoffMiss (accepted,
+                                       // but a sign that the next, larger CFL would be harder still)
+    double backoffMiss = 2.0;          // ... times the tolerance. 1 (any miss) halved the CFL after
+                                       // steps whose deflated GMRES ended at a true residual of
+                                       // 0.051-0.07 against 0.05 (the estimate it stops on drifts
+                                       // over deflated cycles): good steps, but the backed-off CFL
+                                       // held the coarse optimum's 98k flow in exact/approximate
+                                       // pairs (30 iterations, 3,413 GMRES; 17, 2,036 with 2) and
+                                       // an ILU(2) solve of it at CFL 300 (docs/performance.md)
     double cflMaxIncrease = 4.0;       // the CFL of an iteration at most this times the last
                                        // accepted one's (the (R0/R) factor can jump 5x in a step)
     double linearTolerance = 0.05;     // GMRES relative tolerance (forcing term)

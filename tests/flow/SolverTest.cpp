@@ -203,11 +203,10 @@ TEST(FlowSolver, ExactStepsThatDoNotRecoverFromAFailureHandOverToApproximateOnes
     const std::size_t from = static_cast<std::size_t>(rep.approximateFrom - 1);  // history index
     ASSERT_LT(from, h.size());
     // Before the hand-over: the failure (an approximate step right after an exact one), then
-    // recoveryIterations iterations with no new best residual.
-    std::size_t fail = from - 1;
-    while (fail > 0 && !(h[fail - 1].exact && !h[fail].exact)) --fail;
-    ASSERT_GT(fail, 0u) << "no failed exact step before the hand-over";
-    EXPECT_EQ(from - fail, static_cast<std::size_t>(n.recoveryIterations + 1));
+    // recoveryIterations iterations with no new best residual (other failures may come in them).
+    ASSERT_GT(from, static_cast<std::size_t>(n.recoveryIterations + 1));
+    const std::size_t fail = from - static_cast<std::size_t>(n.recoveryIterations + 1);
+    EXPECT_TRUE(h[fail - 1].exact && !h[fail].exact) << "no failed exact step at iteration " << h[fail].iteration;
     double bestBefore = h[0].residual;
     for (std::size_t i = 0; i < fail; ++i) bestBefore = std::min(bestBefore, h[i].residual);
     for (std::size_t i = fail + 1; i < from; ++i) {
@@ -411,6 +410,33 @@ TEST(CflLaw, ARejectedAttemptCutsTheCflActuallyUsedEvenNearConvergence) {
     rec.cfl = cfl;
     law.accepted(rec);
     EXPECT_NEAR(law.next(R, R0), o.cflGrowth * cfl, 1e-12 * cfl);
+}
+
+TEST(CflLaw, BacksOffOnlyWhenGmresMissesItsToleranceByMoreThanTheDriftOfItsEstimate) {
+    // Deflated GMRES stops on its estimate; the true residual it reports can end a few percent
+    // above the tolerance (0.051-0.07 against 0.05 on the coarse optimum's 98k flow). Such a step
+    // is as good as one that met it: the CFL grows. A real miss (the system too hard at this
+    // CFL) halves the base, and so does any miss when backoffMiss is 1.
+    NewtonOptions o;
+    FlowIteration rec;
+    rec.cfl = 1e4;
+    rec.stepScale = 1.0;
+    auto baseAfter = [&](double linearResidual, double linearTarget, const NewtonOptions& opt) {
+        CflLaw law(opt, 100.0);
+        rec.linearResidual = linearResidual;
+        rec.linearTarget = linearTarget;
+        law.accepted(rec);
+        return law.base();
+    };
+    EXPECT_DOUBLE_EQ(baseAfter(0.04, 0.0, o), 100.0 * o.cflGrowth);
+    EXPECT_DOUBLE_EQ(baseAfter(0.07, 0.0, o), 100.0 * o.cflGrowth);   // drift
+    EXPECT_DOUBLE_EQ(baseAfter(0.2, 0.0, o), 100.0 * o.cflBackoff);  // a real miss
+    // Against a looser target (the last step's) the same: 0.4 misses 0.25 by less than 2.
+    EXPECT_DOUBLE_EQ(baseAfter(0.4, 0.25, o), 100.0 * o.cflGrowth);
+    EXPECT_DOUBLE_EQ(baseAfter(0.6, 0.25, o), 100.0 * o.cflBackoff);
+    NewtonOptions strict = o;
+    strict.backoffMiss = 1.0;
+    EXPECT_DOUBLE_EQ(baseAfter(0.051, 0.0, strict), 100.0 * o.cflBackoff);
 }
 
 TEST(FlowSolver, ReportsANonPhysicalStartInsteadOfIterating) {
