@@ -722,15 +722,15 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                           flow::flowStatusName(f->sequencedReport.status), f->sequencedReport.iterations);
         }
         if (f->dissipationRetry()) {
-            const FlowResult::DissipationStage& first = f->dissipationStages.front();
-            double smallest = first.factor;
+            const FlowResult::DissipationStage& stage1 = f->dissipationStages.front();
+            double smallest = stage1.factor;
             for (const auto& ds : f->dissipationStages) smallest = ds.report.converged() ? ds.factor : smallest;
-            why += first.report.converged()
+            why += stage1.report.converged()
                        ? format(" (after the first attempt stopped, %s after %d iterations, the continuation in the "
                                 "dissipation converged at %g times the case's but not at the case's own)",
                                 flow::flowStatusName(f->failedReport.status), f->failedReport.iterations, smallest)
                        : format(" (a solve with %g times the dissipation did not converge either: %s after %d iterations)",
-                                first.factor, flow::flowStatusName(first.report.status), first.report.iterations);
+                                stage1.factor, flow::flowStatusName(stage1.report.status), stage1.report.iterations);
         }
         e.message = why;
     } else {
