@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "io/PatchSetJson.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
+#include "study/Optimization.h"
 
 namespace aero::ui {
 
@@ -758,6 +760,25 @@ void Document::setMinVolume(std::optional<double> minimum) {
     edit(!minimum               ? tr("Remove the volume constraint")
          : std::isnan(*minimum) ? tr("Keep the start's volume")
                                 : tr("Keep the volume at least %1").arg(*minimum, 0, 'g', 6),
+         next);
+}
+
+void Document::setStartDesign(const std::string& path) {
+    if (path == case_.optimization.startDesign) return;
+    io::CaseFile next = case_;
+    next.optimization.startDesign = path;
+    next.optimization.present = true;
+    next.flow.present = true;  // the objective is a flow functional (as the parser demands)
+    if (!path.empty()) {
+        if (std::filesystem::path(path).extension() != ".json")
+            throw CaseError("optimization.start_design: '" + path +
+                            "' is not a case file (.json), e.g. one aeroform-cli optimize --design N writes");
+        const ffd::FfdModel* m = model();
+        if (!m) throw CaseError("optimization.start_design: the case has no design variables to start from");
+        study::startDesign(next, *m, values_);  // refuses, naming the variable, what does not fit
+    }
+    edit(path.empty() ? tr("Start the optimization from the case's own design")
+                      : tr("Start the optimization from %1").arg(QFileInfo(QString::fromStdString(path)).fileName()),
          next);
 }
 

@@ -162,6 +162,11 @@ class Document : public QObject {
     /// The optimization's volume constraint (constraints.min_volume): none, the start's (NaN) or
     /// a value (> 0). One undoable step; no-op when nothing changes.
     void setMinVolume(std::optional<double> minimum);
+    /// The design the optimization starts from (optimization.start_design): a case file's design
+    /// values (absolute path), or "" for the case's own. Refused with a CaseError that names the
+    /// file and the variable or value that does not fit this case (checked now, not at the run's
+    /// start). One undoable step; no-op when nothing changes.
+    void setStartDesign(const std::string& path);
     /// Sets every design variable (model order, clamped to its bounds) and, if given, the angle of
     /// attack (flow.alpha) in one undoable step named `text`: e.g. an optimization's evaluation
     /// taken over. Throws CaseError for a design of the wrong size.

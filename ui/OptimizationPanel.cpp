@@ -2,6 +2,7 @@
 
 #include <QCheckBox>
 #include <QComboBox>
+#include <QFileInfo>
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -126,6 +127,37 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
         rows_.push_back({key, e});
     };
     for (const Shown& s : kProblem) addEditor(form, problem, s);
+    // The start: the case's own design or another case's (optimization.start_design), e.g. a
+    // coarser grid's best evaluation written with aeroform-cli optimize --design N.
+    auto* startRow = new QVBoxLayout;  // the file's name above its buttons: the dock is narrow
+    auto* startButtons = new QHBoxLayout;
+    startDesign_ = new QLabel(problem);
+    startDesign_->setObjectName(QStringLiteral("optimizationStartDesign"));
+    startDesign_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    startDesign_->setWordWrap(true);
+    chooseStart_ = new QPushButton(tr("Choose a Case\u2026"), problem);
+    chooseStart_->setObjectName(QStringLiteral("optimizationChooseStart"));
+    clearStart_ = new QPushButton(tr("Its Own Design"), problem);
+    clearStart_->setObjectName(QStringLiteral("optimizationClearStart"));
+    const QString startTip =
+        tr("<p><b>optimization.start_design</b></p><p>The design the optimizer starts from: this "
+           "case's own, or the design values (and alpha, when it is a variable) of another case "
+           "file, e.g. a coarser grid's best evaluation written with <tt>aeroform-cli optimize "
+           "--design N</tt>. Only the start moves: the bounds, the constraints and the volume "
+           "\u2265 the start's still refer to this case's own design.</p>"
+           "<p>An edit of the case (undoable); the next run uses it.</p>");
+    for (QWidget* w : {static_cast<QWidget*>(startDesign_), static_cast<QWidget*>(chooseStart_),
+                       static_cast<QWidget*>(clearStart_)})
+        w->setToolTip(startTip);
+    clearStart_->setToolTip(tr("<p>Start from this case's own design (no start_design).</p>"));
+    startRow->addWidget(startDesign_);
+    startButtons->addWidget(chooseStart_);
+    startButtons->addWidget(clearStart_);
+    startButtons->addStretch(1);
+    startRow->addLayout(startButtons);
+    form->addRow(tr("Start from"), startRow);
+    connect(chooseStart_, &QPushButton::clicked, this, &OptimizationPanel::startDesignChooseRequested);
+    connect(clearStart_, &QPushButton::clicked, this, [this] { emit startDesignEdited(QString()); });
 
     auto* constraints = new QGroupBox(tr("Constraints"), this);
     auto* cform = new QFormLayout(constraints);
@@ -396,6 +428,15 @@ void OptimizationPanel::setCase(const io::CaseFile& c, const QString& historyPat
         linear << tr("lattice bent by at most %1 between three stations").arg(*c.stationSecondDifference);
     }
     linear_->setText(linear.isEmpty() ? tr("none") : linear.join(QStringLiteral("; ")));
+    if (oc.startDesign.empty()) {
+        startDesign_->setText(tr("this case's design"));
+        startDesign_->setToolTip(chooseStart_->toolTip());
+    } else {
+        const QString path = QString::fromStdString(oc.startDesign);
+        startDesign_->setText(QFileInfo(path).fileName());
+        startDesign_->setToolTip(QStringLiteral("<p>%1</p>").arg(path.toHtmlEscaped()) + chooseStart_->toolTip());
+    }
+    clearStart_->setEnabled(!oc.startDesign.empty());
     history_->setText(historyPath.isEmpty()
                           ? tr("History: none yet (save the project: it is kept beside it).")
                           : tr("History: %1").arg(historyPath));

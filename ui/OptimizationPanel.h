@@ -87,6 +87,8 @@ class OptimizationPanel : public QWidget {
                           const QString& note);
     QTreeWidget* sensitivityList() const { return sensitivities_; }
 
+    QLabel* startDesignLabel() const { return startDesign_; }
+    QPushButton* clearStartButton() const { return clearStart_; }
     QPushButton* startButton() const { return start_; }
     QPushButton* pauseButton() const { return pause_; }
     QPushButton* stopButton() const { return stop_; }
@@ -99,6 +101,9 @@ class OptimizationPanel : public QWidget {
     void optionEdited(const std::string& key, const aero::io::OptionValue& value);
     /// The volume constraint: none, the start's volume (NaN), or a value.
     void volumeEdited(std::optional<double> minimum);
+    /// optimization.start_design: a case file's path, or empty for the case's own design.
+    void startDesignEdited(const QString& path);
+    void startDesignChooseRequested();  // the workspace asks for the file
     void startRequested();
     void startOverRequested();
     void pauseRequested();
@@ -128,6 +133,9 @@ class OptimizationPanel : public QWidget {
     QComboBox* volume_ = nullptr;
     NumberBox* volumeValue_ = nullptr;
     QLabel* linear_ = nullptr;
+    QLabel* startDesign_ = nullptr;
+    QPushButton* chooseStart_ = nullptr;
+    QPushButton* clearStart_ = nullptr;
     QLabel* history_ = nullptr;
     QPushButton* start_ = nullptr;
     QPushButton* pause_ = nullptr;

@@ -106,6 +106,13 @@ OptimizationWorkspace::OptimizationWorkspace(Document* document, JobRunner* jobs
                                           error);
                 }
             });
+    connect(panel_, &OptimizationPanel::startDesignChooseRequested, this,
+            &OptimizationWorkspace::chooseStartDesign);
+    connect(panel_, &OptimizationPanel::startDesignEdited, this, [this](const QString& path) {
+        QString error;
+        if (!setStartDesign(path, &error))
+            QMessageBox::critical(dialogParent_, tr("Cannot start from this design"), error);
+    });
     connect(panel_, &OptimizationPanel::volumeEdited, this, [this](std::optional<double> minimum) {
         QString error;
         if (!ProjectFiles::guarded([&] { document_->setMinVolume(minimum); }, &error)) {
@@ -184,6 +191,31 @@ void OptimizationWorkspace::showCase() {
     plots_->setProblem(document_->caseFile());
     onStateChanged();  // a saved project may have a history to resume
     updateSensitivities();
+}
+
+bool OptimizationWorkspace::setStartDesign(const QString& path, QString* error) {
+    const std::string stored =
+        path.isEmpty() ? std::string() : QFile::encodeName(QFileInfo(path).absoluteFilePath()).toStdString();
+    QString why;
+    if (ProjectFiles::guarded([&] { document_->setStartDesign(stored); }, &why)) return true;
+    showCase();
+    if (error) *error = why;
+    return false;
+}
+
+void OptimizationWorkspace::chooseStartDesign() {
+    const QString current = QString::fromStdString(document_->caseFile().optimization.startDesign);
+    const QString history = runner_->historyPath();
+    const QString dir = !current.isEmpty()   ? QFileInfo(current).dir().path()
+                        : !history.isEmpty() ? QFileInfo(history).dir().path()
+                                             : QDir::homePath();
+    const QString path = QFileDialog::getOpenFileName(
+        dialogParent_, tr("Start the Optimization from a Case's Design"), dir,
+        tr("Case files (*.json)"));
+    if (path.isEmpty()) return;
+    QString error;
+    if (!setStartDesign(path, &error))
+        QMessageBox::critical(dialogParent_, tr("Cannot start from this design"), error);
 }
 
 // ---- Running

@@ -69,6 +69,11 @@ class OptimizationWorkspace : public QObject {
     bool exportHistory(const QString& csvPath, QString* error = nullptr) const;
     /// The shown evaluation's design taken over by the document (one undoable edit).
     bool useShownDesign(QString* error = nullptr);
+    /// optimization.start_design = `path` (a case file; empty: the case's own design), one
+    /// undoable edit; false with *error (the file, and the variable or value that does not fit)
+    /// when the document refuses it. chooseStartDesign() asks for the file.
+    bool setStartDesign(const QString& path, QString* error = nullptr);
+    void chooseStartDesign();
 
   signals:
     /// An evaluation took the 3D view or gave it back (the window hides or shows the design's).

@@ -344,14 +344,8 @@ std::vector<double> variableScales(const io::OptimizationCase& oc, const std::ve
 // ... and its alpha, the angle of attack divided by this (degrees per unit).
 double alphaScale(const io::OptimizationCase& oc) { return oc.rangeScaling ? oc.alphaUpper - oc.alphaLower : 1.0; }
 
-// The design an optimization starts from: the case's own (`own`), or the design values (and
-// flow.alpha, when alpha is a variable) of the case optimization.start_design names. Throws
-// CaseError naming that key and the start case's variable or value that does not fit this case.
-struct StartDesign {
-    std::vector<double> values;
-    double alphaDeg = 0;
-    int changed = 0;  // design variables that differ from the case's own values
-};
+}  // namespace
+
 StartDesign startDesign(const io::CaseFile& c, const ffd::FfdModel& model, const std::vector<double>& own) {
     const io::OptimizationCase& oc = c.optimization;
     StartDesign s{own, c.flow.freeStream.alphaDeg, 0};
@@ -371,8 +365,6 @@ StartDesign startDesign(const io::CaseFile& c, const ffd::FfdModel& model, const
     for (std::size_t i = 0; i < own.size(); ++i) s.changed += s.values[i] != own[i] ? 1 : 0;
     return s;
 }
-
-}  // namespace
 
 bool hasConvergedFlow(const OptimizationRecord& r) {
     // A refused record written before the forces were kept has none (CD 0).

@@ -69,6 +69,18 @@ struct OptimizationRecord {
     bool replayed = false;           // read back on --resume, not run again
 };
 const char* recordKindName(OptimizationRecord::Kind k);
+/// The design an optimization of case c starts from: the case's own (`own`, model order), or the
+/// design values (and flow.alpha, when alpha is a variable) of the case optimization.start_design
+/// names, by variable name (the ones it does not give at their baselines). Throws
+/// CaseError naming that key and the start case's variable or value that does not fit c (an
+/// unknown name, a value outside the bounds, a file that cannot be read).
+struct StartDesign {
+    std::vector<double> values;
+    double alphaDeg = 0;
+    int changed = 0;  // design variables that differ from `own`
+};
+StartDesign startDesign(const io::CaseFile& c, const ffd::FfdModel& model, const std::vector<double>& own);
+
 /// A values record whose flow converged: accepted, or refused by optimization.max_entropy or
 /// max_entropy_rise (status "flow-unresolved"). Its forces, max Mach and entropy mean something;
 /// its objective only if it is ok.

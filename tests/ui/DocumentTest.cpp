@@ -16,6 +16,7 @@
 #include "cad/Iges.h"
 #include "common/Error.h"
 #include "geometry/HalfSphere.h"
+#include "io/CaseFile.h"
 #include "io/CaseWriter.h"
 #include "io/PatchSetJson.h"
 
@@ -61,6 +62,7 @@ class DocumentTest : public QObject {
     void renamingARefinedLatticeKeepsItsDisplacements();
     void saveAndReopenRestoresExactly();
     void meshOptionsAreUndoableAndSaved();
+    void startDesignIsCheckedUndoableAndSaved();
     void autosaveAndRecoveryRestoreExactly();
     void failedLoadKeepsTheDocument();
     void exportsTheDeformedGeometryExactly();
@@ -411,6 +413,60 @@ void DocumentTest::saveAndReopenRestoresExactly() {
     g.saveProject(dir.filePath(QStringLiteral("uses_iges.json")));
     QVERIFY(!QFileInfo::exists(dir.filePath(QStringLiteral("uses_iges.geometry.json"))));
     QCOMPARE(QFileInfo(QString::fromStdString(g.caseFile().geometry)).absoluteFilePath(), QFileInfo(iges).absoluteFilePath());
+}
+
+void DocumentTest::startDesignIsCheckedUndoableAndSaved() {
+    // optimization.start_design from the window: another case's design, checked against this
+    // case's variables when it is chosen (not at the run's start), one undoable edit, saved.
+    Document d;
+    d.newFromSample(true);
+    QVERIFY(d.model() != nullptr);
+    const auto& vars = d.model()->design().variables();
+    QVERIFY(vars.size() > 2);
+    const aero::ffd::DesignVariable& v = vars[1];
+    QTemporaryDir dir;
+    auto writeStart = [&](const QString& name, double value) {
+        aero::io::CaseFile c = d.caseFile();
+        c.values[v.name] = value;
+        c.path = dir.filePath(name).toStdString();
+        aero::io::writeCase(c, c.path);
+        return c.path;
+    };
+    const std::string good = writeStart(QStringLiteral("coarse_best.json"), 0.5 * (v.baseline + v.upper));
+    QSignalSpy changed(&d, &Document::optimizationOptionsChanged);
+    d.setStartDesign("");  // already the case's own: no edit
+    QCOMPARE(d.undoStack()->count(), 0);
+    d.setStartDesign(good);
+    QCOMPARE(d.undoStack()->count(), 1);
+    QVERIFY(changed.count() >= 1);
+    QCOMPARE(d.caseFile().optimization.startDesign, good);
+    QVERIFY(d.caseFile().optimization.present);
+
+    // Refused, naming what does not fit; the case keeps its start.
+    const std::string outside = writeStart(QStringLiteral("outside.json"), v.upper + (v.upper - v.lower));
+    try {
+        d.setStartDesign(outside);
+        QFAIL("a start outside the bounds was taken");
+    } catch (const aero::CaseError& e) {
+        const std::string what = e.what();
+        QVERIFY2(what.find("optimization.start_design") != std::string::npos, e.what());
+        QVERIFY2(what.find(v.name) != std::string::npos, e.what());
+    }
+    QVERIFY_THROWS_EXCEPTION(aero::CaseError, d.setStartDesign(dir.filePath(QStringLiteral("none.json")).toStdString()));
+    QVERIFY_THROWS_EXCEPTION(aero::CaseError, d.setStartDesign(dir.filePath(QStringLiteral("start.igs")).toStdString()));
+    QCOMPARE(d.undoStack()->count(), 1);
+    QCOMPARE(d.caseFile().optimization.startDesign, good);
+
+    // Saved (relative to the project) and read back as the same file.
+    const QString project = dir.filePath(QStringLiteral("project.json"));
+    d.saveProject(project);
+    Document e;
+    e.openProject(project);
+    QCOMPARE(QFileInfo(QString::fromStdString(e.caseFile().optimization.startDesign)).canonicalFilePath(),
+             QFileInfo(QString::fromStdString(good)).canonicalFilePath());
+
+    d.undoStack()->undo();
+    QVERIFY(d.caseFile().optimization.startDesign.empty());
 }
 
 void DocumentTest::autosaveAndRecoveryRestoreExactly() {

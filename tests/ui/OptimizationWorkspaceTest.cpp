@@ -25,6 +25,7 @@
 #include <QFileInfo>
 #include <QLabel>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSlider>
 #include <QSpinBox>
 #include <QStatusBar>
@@ -732,6 +733,59 @@ void OptimizationWorkspaceTest::badInputIsExplained() {
     QVERIFY(window_->actions().optimizeResume->isEnabled());
     stack->undo();
     QCOMPARE(doc.caseFile().optimization.objective, std::string("CL/CD"));
+
+    // The start design (optimization.start_design) chosen in the panel: one that does not fit
+    // this case is refused with a message naming the variable; one that fits is shown by its
+    // file name, and "Own" goes back to the case's own design. Each is one undoable edit.
+    {
+        const auto& vars = doc.model()->design().variables();
+        const aero::ffd::DesignVariable& v = vars.front();
+        auto writeStart = [&](const QString& name, double value) {
+            aero::io::CaseFile c = doc.caseFile();
+            c.values[v.name] = value;
+            c.path = dir_.filePath(name).toStdString();
+            aero::io::writeCase(c, c.path);
+            return QString::fromStdString(c.path);
+        };
+        const int undoStart = stack->index();
+        answered = false;
+        said.clear();
+        answerNextMessageBox(QString(), &answered, &said);
+        emit panel().startDesignEdited(writeStart(QStringLiteral("outside.json"), v.upper + 1.0));
+        QTRY_VERIFY(answered);
+        QVERIFY2(said.contains(QStringLiteral("optimization.start_design")) &&
+                     said.contains(QString::fromStdString(v.name)),
+                 qPrintable(said));
+        QCOMPARE(stack->index(), undoStart);
+        QCOMPARE(panel().startDesignLabel()->text(), QStringLiteral("this case's design"));
+        QVERIFY(!panel().clearStartButton()->isEnabled());
+
+        const QString good = writeStart(QStringLiteral("coarse_best.json"), 0.5 * (v.baseline + v.upper));
+        QString error;
+        QVERIFY2(window_->optimization().setStartDesign(good, &error), qPrintable(error));
+        QCOMPARE(stack->index(), undoStart + 1);
+        QCOMPARE(QString::fromStdString(doc.caseFile().optimization.startDesign), QFileInfo(good).absoluteFilePath());
+        QCOMPARE(panel().startDesignLabel()->text(), QStringLiteral("coarse_best.json"));
+        QVERIFY(panel().clearStartButton()->isEnabled());
+        window_->findChild<QDockWidget*>(QStringLiteral("optimizationDock"))->raise();
+        for (QWidget* w = panel().startDesignLabel(); w; w = w->parentWidget()) {
+            if (auto* area = qobject_cast<QScrollArea*>(w)) {
+                area->ensureWidgetVisible(panel().startDesignLabel(), 20, 120);
+                break;
+            }
+        }
+        QTest::qWait(100);
+        QDir().mkpath(kScreenshotDir);
+        QVERIFY(window_->grab().save(kScreenshotDir + QStringLiteral("/optimization_start_design.png")));
+        QTest::mouseClick(panel().clearStartButton(), Qt::LeftButton);
+        QVERIFY(doc.caseFile().optimization.startDesign.empty());
+        QCOMPARE(stack->index(), undoStart + 2);
+        QCOMPARE(panel().startDesignLabel()->text(), QStringLiteral("this case's design"));
+        stack->undo();
+        QCOMPARE(panel().startDesignLabel()->text(), QStringLiteral("coarse_best.json"));
+        stack->undo();
+        QVERIFY(doc.caseFile().optimization.startDesign.empty());
+    }
 
     // A case without an optimization (the sample, unsaved): Start says what to do, beside the
     // button and in the status bar; nothing runs.
