@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <vector>
@@ -770,9 +769,8 @@ void Document::setStartDesign(const std::string& path) {
     next.optimization.present = true;
     next.flow.present = true;  // the objective is a flow functional (as the parser demands)
     if (!path.empty()) {
-        if (std::filesystem::path(path).extension() != ".json")
-            throw CaseError("optimization.start_design: '" + path +
-                            "' is not a case file (.json), e.g. one aeroform-cli optimize --design N writes");
+        if (const std::string why = io::startDesignPathProblem(path); !why.empty())
+            throw CaseError("optimization.start_design: '" + path + "' " + why);
         const ffd::FfdModel* m = model();
         if (!m) throw CaseError("optimization.start_design: the case has no design variables to start from");
         study::startDesign(next, *m, values_);  // refuses, naming the variable, what does not fit

@@ -146,9 +146,7 @@ OptimizationPanel::OptimizationPanel(QWidget* parent) : QWidget(parent) {
            "--design N</tt>. Only the start moves: the bounds, the constraints and the volume "
            "\u2265 the start's still refer to this case's own design.</p>"
            "<p>An edit of the case (undoable); the next run uses it.</p>");
-    for (QWidget* w : {static_cast<QWidget*>(startDesign_), static_cast<QWidget*>(chooseStart_),
-                       static_cast<QWidget*>(clearStart_)})
-        w->setToolTip(startTip);
+    chooseStart_->setToolTip(startTip);  // the label's: setCase (with the file's path)
     clearStart_->setToolTip(tr("<p>Start from this case's own design (no start_design).</p>"));
     startRow->addWidget(startDesign_);
     startButtons->addWidget(chooseStart_);

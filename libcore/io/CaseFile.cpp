@@ -520,8 +520,8 @@ CaseFile parseCase(const std::string& text, const std::string& path) {
         }
         if (j.contains("start_design")) {
             oc.startDesign = resolve(path, ctx.string(j["start_design"], "optimization.start_design"));
-            if (std::filesystem::path(oc.startDesign).extension() != ".json") {
-                ctx.fail("optimization.start_design", "must be a case file (.json), e.g. one aeroform-cli optimize --design N writes");
+            if (const std::string why = startDesignPathProblem(oc.startDesign); !why.empty()) {
+                ctx.fail("optimization.start_design", why);
             }
         }
         if (oc.objective == "pressure" && oc.targetPressure.empty()) {
@@ -634,6 +634,11 @@ ffd::FfdModel buildModel(const CaseFile& c, const geometry::PatchSet& geometry) 
         }
     }
     return model;
+}
+
+std::string startDesignPathProblem(const std::string& path) {
+    if (std::filesystem::path(path).extension() == ".json") return "";
+    return "must be a case file (.json), e.g. one aeroform-cli optimize --design N writes";
 }
 
 std::vector<double> designValues(const CaseFile& c, const ffd::FfdModel& model) {

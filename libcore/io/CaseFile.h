@@ -180,6 +180,9 @@ ffd::FfdModel buildModel(const CaseFile& c, const geometry::PatchSet& geometry);
 /// indices of displacements and point variables refer to.
 std::array<int, 3> refinedCounts(const LatticeCase& lc);
 
+/// Why `path` cannot be an optimization.start_design (not a case file, .json), or "" if it can.
+std::string startDesignPathProblem(const std::string& path);
+
 /// Design-variable values of the case (baseline where not given). Throws CaseError naming an
 /// unknown variable or a value outside its bounds.
 std::vector<double> designValues(const CaseFile& c, const ffd::FfdModel& model);
