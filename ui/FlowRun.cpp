@@ -83,6 +83,7 @@ FlowRunResult runFlowSolve(const FlowRunInput& in, const FlowRunProgressFn& prog
     io::CaseFile c = in.caseFile;
     c.flow.present = true;  // like `aeroform-cli flow`: a case without a flow section gets the defaults
     study::CaseEvaluator ev(c, in.baseline);  // throws for a bad case, as the CLI reports it
+    if (!in.warmStateFrom.empty()) ev.setWarmStart(io::readWarmState(in.warmStateFrom));
 
     study::EvaluationRequest request;
     request.worstCells = 0;

@@ -44,6 +44,9 @@ struct FlowRunInput {
     std::vector<double> wall;     // the document's wall when the run started (unique control
                                   // points, 3 each): what the result is compared with later
     std::string restartFrom;      // non-empty: continue from this restart file (same grid)
+    std::string warmStateFrom;    // non-empty: start from this bare state (io::readWarmState: an
+                                  // optimization's stored evaluation) when it fits the grid;
+                                  // a missing, damaged or other-grid file is the usual start
     std::string restartTo;        // non-empty: where a run that stops early keeps its state
     bool restartAlways = false;   // ... and a converged one too (the case's output.restart);
                                   // otherwise a converged run removes a stale file there

@@ -470,6 +470,10 @@ bool OptimizationRunner::solveEvaluationFlow(int index, QString* error) {
         c.values[vars[i].name] = e->snapshot->values[i];
     c.flow.freeStream.alphaDeg = e->snapshot->alphaDeg;
     input->caseFile = std::move(c);
+    // The run kept the converged states of its newest evaluations for its warm starts: such a
+    // flow comes back in an iteration or two instead of a whole solve.
+    const QString csv = historyPath();
+    if (!csv.isEmpty()) input->warmStateFrom = study::warmStatePath(encode(csv), index);
     auto result = std::make_shared<std::shared_ptr<FlowRunResult>>();
     auto snapshot = e->snapshot;
     const quint64 generation = generation_;
@@ -498,8 +502,13 @@ bool OptimizationRunner::solveEvaluationFlow(int index, QString* error) {
         next->flow = *result;
         self->history_.setSnapshot(index, next);
         emit self->snapshotChanged(index);
+        const study::FlowResult& f = *(*result)->flow;
         emit self->message((*result)->status == study::EvaluationStatus::Ok
-                               ? tr("The flow of evaluation %1 is solved again.").arg(index)
+                               ? (f.warmStarted ? tr("The flow of evaluation %1 is back from the state the run kept "
+                                                     "(%2 iterations).")
+                                                      .arg(index)
+                                                      .arg(f.report.iterations)
+                                                : tr("The flow of evaluation %1 is solved again.").arg(index))
                                : tr("The flow of evaluation %1: %2")
                                      .arg(index)
                                      .arg(QString::fromStdString((*result)->message)),

@@ -406,6 +406,10 @@ std::string historyJsonlPath(const std::string& csv) {
     return p.string();
 }
 
+std::string warmStatePath(const std::string& csv, int evaluation) {
+    return (fs::path(csv).replace_extension(".states") / (std::to_string(evaluation) + ".state")).string();
+}
+
 std::vector<OptimizationRecord> readHistory(const std::string& jsonl) {
     std::ifstream in(jsonl, std::ios::binary);
     if (!in) throw InputError("cannot read the optimization history '" + jsonl + "': " + std::strerror(errno));
@@ -628,7 +632,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         fs::path it(oc.history);
         summary.iterationsCsv = (it.parent_path() / (it.stem().string() + "_iterations.csv")).string();
     }
-    const fs::path stateDir = fs::path(summary.historyJsonl).replace_extension(".states");
+    const fs::path stateDir = fs::path(warmStatePath(oc.history, 0)).parent_path();
     if (!fs::path(oc.history).parent_path().empty()) fs::create_directories(fs::path(oc.history).parent_path());
     // The best shape's folder too, now: a missing folder found after hours of evaluations would
     // lose the shape the run was for.
@@ -699,7 +703,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     csv.rewrite(kept);
     if (!oc.iterations.empty()) fs::create_directories(oc.iterations);
 
-    auto statePath = [&](int index) { return (stateDir / (std::to_string(index) + ".state")).string(); };
+    auto statePath = [&](int index) { return warmStatePath(oc.history, index); };
     int evaluations = 0, gradients = 0;
     int lastOk = 0;                 // the last accepted evaluation
     std::map<int, double> entropyOf;  // accepted evaluation -> its largest |s - s_inf|

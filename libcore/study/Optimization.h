@@ -149,6 +149,11 @@ io::CaseFile evaluationCase(const CaseEvaluator& ev, int evaluation);
 /// The JSON-lines history beside a CSV history path (".csv" -> ".jsonl").
 std::string historyJsonlPath(const std::string& csv);
 
+/// Where an optimization keeps the converged flow state of an evaluation for its warm starts:
+/// `<history stem>.states/<evaluation>.state` beside the CSV history (io::readWarmState reads it;
+/// only the newest few accepted evaluations and the optimizer's last two iterates are kept).
+std::string warmStatePath(const std::string& csv, int evaluation);
+
 /// The records of a JSON-lines history, in order. A last line that is incomplete (a run killed
 /// while writing it) is dropped; any other bad line throws InputError naming the file and line.
 std::vector<OptimizationRecord> readHistory(const std::string& jsonl);

@@ -651,6 +651,24 @@ void OptimizationWorkspaceTest::quittingMidRunAsksAndLeavesAResumableHistory() {
     QVERIFY(panel().solveFlowButton()->isEnabled());
     QVERIFY2(panel().statusText().contains(QStringLiteral("Resume continues it")),
              qPrintable(panel().statusText()));
+    // Solve Its Flow on evaluation 1 starts from the state the run kept for its warm starts
+    // (`<history>.states/1.state`): the flow is back without a solve from the free stream.
+    const std::string state1 =
+        aero::study::warmStatePath(QFile::encodeName(runner().historyPath()).toStdString(), 1);
+    QVERIFY2(QFileInfo::exists(QFile::decodeName(state1.c_str())), state1.c_str());
+    window_->optimization().showEvaluation(1);
+    QVERIFY(panel().solveFlowButton()->isEnabled());
+    QString said;
+    auto c3 = connect(&runner(), &OptimizationRunner::message, this,
+                      [&said](const QString& text, int) { said = text; });
+    panel().solveFlowButton()->click();
+    QVERIFY(runner().solvingEvaluation());
+    QTRY_VERIFY_WITH_TIMEOUT(!runner().solvingEvaluation(), kRunTimeoutMs);
+    disconnect(c3);
+    QVERIFY2(said.contains(QStringLiteral("is back from the state the run kept (0 iterations)")),
+             qPrintable(said));
+    QVERIFY(runner().history().evaluation(1)->snapshot->flow);
+    QVERIFY(window_->optimizationScene().flowDrawn());
     QVERIFY(window_->actions().optimizeResume->isEnabled());
     window_->actions().optimizeResume->trigger();
     QCOMPARE(runner().state(), State::Running);
