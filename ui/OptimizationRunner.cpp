@@ -503,16 +503,16 @@ bool OptimizationRunner::solveEvaluationFlow(int index, QString* error) {
         self->history_.setSnapshot(index, next);
         emit self->snapshotChanged(index);
         const study::FlowResult& f = *(*result)->flow;
-        emit self->message((*result)->status == study::EvaluationStatus::Ok
-                               ? (f.warmStarted ? tr("The flow of evaluation %1 is back from the state the run kept "
-                                                     "(%2 iterations).")
-                                                      .arg(index)
-                                                      .arg(f.report.iterations)
-                                                : tr("The flow of evaluation %1 is solved again.").arg(index))
-                               : tr("The flow of evaluation %1: %2")
-                                     .arg(index)
-                                     .arg(QString::fromStdString((*result)->message)),
-                           8000);
+        QString text;
+        if ((*result)->status != study::EvaluationStatus::Ok)
+            text = tr("The flow of evaluation %1: %2").arg(index).arg(QString::fromStdString((*result)->message));
+        else if (f.warmStarted)
+            text = tr("The flow of evaluation %1 is back from the state the run kept (%2 iterations).")
+                       .arg(index)
+                       .arg(f.report.iterations);
+        else
+            text = tr("The flow of evaluation %1 is solved again.").arg(index);
+        emit self->message(text, 8000);
     };
     flowJob_ = jobs_->start(std::move(spec));
     return true;

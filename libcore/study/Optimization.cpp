@@ -406,8 +406,13 @@ std::string historyJsonlPath(const std::string& csv) {
     return p.string();
 }
 
+namespace {
+// The folder of an optimization's warm-start states, beside its CSV history.
+fs::path warmStateFolder(const std::string& csv) { return fs::path(csv).replace_extension(".states"); }
+}  // namespace
+
 std::string warmStatePath(const std::string& csv, int evaluation) {
-    return (fs::path(csv).replace_extension(".states") / (std::to_string(evaluation) + ".state")).string();
+    return (warmStateFolder(csv) / (std::to_string(evaluation) + ".state")).string();
 }
 
 std::vector<OptimizationRecord> readHistory(const std::string& jsonl) {
@@ -632,7 +637,7 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         fs::path it(oc.history);
         summary.iterationsCsv = (it.parent_path() / (it.stem().string() + "_iterations.csv")).string();
     }
-    const fs::path stateDir = fs::path(warmStatePath(oc.history, 0)).parent_path();
+    const fs::path stateDir = warmStateFolder(oc.history);
     if (!fs::path(oc.history).parent_path().empty()) fs::create_directories(fs::path(oc.history).parent_path());
     // The best shape's folder too, now: a missing folder found after hours of evaluations would
     // lose the shape the run was for.
