@@ -121,7 +121,7 @@ StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, c
                        const NewtonOptions& n)
     : fm_(fm), metrics_(metrics), n_(n), approx_(o), P_(jacobianPattern(fm, 1)),
       jp_(fm, metrics, o, n.products), rhs_(kVars * static_cast<std::size_t>(fm.nodeCount)),
-      lowMemory_(fm.nodeCount >= n.lowMemoryNodes) {
+      lowMemory_(fm.nodeCount >= n.lowMemoryNodes), optionLumping_(o.dissipation.lumping) {
     approx_.lumpedDissipation = true;
     approx_.freezeCoefficients = true;
     // A grid where memory is the limit stores the factors in bfloat16 and the Krylov basis in float
@@ -142,6 +142,9 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
     if (lowMemory_) krylov_.release();
     q_ = q;
     r_ = r;
+    const double lumping = approx_.dissipation.lumping;
+    const bool nearer = exact && n_.exactLumping > 0 && cfl >= n_.exactLumpingCfl && lumping <= optionLumping_;
+    matrixLumping_ = nearer ? std::min(lumping, n_.exactLumping) : lumping;
     assembleMatrix();
     exact_ = exact;
     factored_ = false;
@@ -149,7 +152,9 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
 }
 
 void StepSystem::assembleMatrix() {
-    assembleApproximateJacobian(fm_, metrics_, q_, approx_, P_);
+    ResidualOptions o = approx_;
+    o.dissipation.lumping = matrixLumping_;
+    assembleApproximateJacobian(fm_, metrics_, q_, o, P_);
     P_.addDiagonal(d_.data());
 }
 

@@ -131,6 +131,16 @@ struct NewtonOptions {
                                        // exactBelow and the CFL law refer to it; 0: this run's own
     double maxLumping = 16;            // when GMRES fails on the lumped system, its lumping factor
                                        // (DissipationOptions::lumping) is doubled up to this
+    double exactLumping = 2.5;         // the lumping factor of the exact (Newton) steps' preconditioner
+                                       // from exactLumpingCfl on, while the run's own lumping is still
+                                       // the option's (not raised after a GMRES failure): near
+                                       // convergence the time term no longer makes the lumped operator
+                                       // diagonally dominant by itself, and one nearer the exact
+                                       // Jacobian is the better preconditioner (evaluation 2 of the
+                                       // 98k sphere-to-BWB run: 20 iterations / 2,633 GMRES against
+                                       // 34 / 4,237; 2 and 1.5 took 24; docs/performance.md). 0: the
+                                       // run's lumping throughout
+    double exactLumpingCfl = 1e6;
     double linearFailure = 0.5;        // a step whose GMRES reduced the linear residual by less
                                        // than this factor is rejected (CFL cut) instead of taken
     double finalForcing = 0.25;        // the last Newton step's GMRES tolerance at most: when
@@ -258,6 +268,8 @@ private:
     bool factored_ = false;       // ilu_ holds the factors of the last assemble()
     bool productsReady_ = false;  // jp_ holds the state of the last assemble()
     bool lowMemory_ = false;      // NewtonOptions::lowMemoryNodes reached
+    double optionLumping_ = 0;    // the residual options' lumping factor (before any raise)
+    double matrixLumping_ = 0;    // the lumping factor P_ was last assembled with
 
     void assembleMatrix();        // P_ = the approximate Jacobian at q_ + diag(d_)
 };

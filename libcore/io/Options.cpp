@@ -282,6 +282,11 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "sigma of the preconditioner's lumped dissipation (fourth-difference coefficient moved "
                                    "to the second difference); smaller is closer to the real operator but less "
                                    "diagonally dominant"));
+        o.push_back(real<FlowCase>("exact_lumping", "", 0, true, 1000, false,
+                                   [](FlowCase& c) -> double& { return c.newton.exactLumping; },
+                                   "the lumping factor of the Newton steps' preconditioner from CFL 1e6 on, when it is "
+                                   "below `lumping` and GMRES has not had to raise that: a preconditioner nearer the "
+                                   "exact Jacobian for the last orders (0: `lumping` throughout)"));
         o.push_back(boolean<FlowCase>("local_cfl", [](FlowCase& c) -> bool& { return c.newton.localCfl; },
                             "per-node CFL factors: a node the step would change by more than 30 % (density or "
                             "pressure) gets a smaller time step of its own instead of cutting the whole step, so "
