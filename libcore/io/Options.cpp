@@ -286,7 +286,8 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    [](FlowCase& c) -> double& { return c.newton.exactLumping; },
                                    "the lumping factor of the Newton steps' preconditioner from CFL 1e6 on, when it is "
                                    "below `lumping` and GMRES has not had to raise that: a preconditioner nearer the "
-                                   "exact Jacobian for the last orders (0: `lumping` throughout)"));
+                                   "exact Jacobian for the last orders; it changes which hard flows converge faster rather "
+                                   "than the average (docs/performance.md) (0: `lumping` throughout)"));
         o.push_back(boolean<FlowCase>("local_cfl", [](FlowCase& c) -> bool& { return c.newton.localCfl; },
                             "per-node CFL factors: a node the step would change by more than 30 % (density or "
                             "pressure) gets a smaller time step of its own instead of cutting the whole step, so "

@@ -241,11 +241,11 @@ TEST(FlowAdjoint, AlphaDerivativesMatchConvergedFlowsAtNeighbouringAngles) {
     // this grid over time: 5e-3 at h = 0.05 and 0.2 degree, 1e-4 at 0.002, 5e-7 / 7e-4 at 0.0005,
     // 2e-8 / 2e-3 at 0.0001). As in the paper's check, the best of several steps must agree, to
     // what the converged flows resolve: at a residual of 8e-13 their CL still carries about 1e-11
-    // that depends on the solver's path (two preconditioners of the last Newton steps, lumping 3
-    // and 2.5, give differences at h = 1e-5 that differ by 4.9e-7, 8e-5 of dCL/dalpha), so 1e-4;
-    // and the differences must close in on the adjoint's value as h shrinks (the error at
-    // h = 1e-5 at most a fifth of that at 1e-4: measured 27-370 times smaller), which a wrong
-    // derivative would not.
+    // that depends on the solver's path (two preconditioners of the last Newton steps,
+    // flow.exact_lumping 0 and 2.5, give differences at h = 1e-5 that differ by 4.9e-7, 8e-5 of
+    // dCL/dalpha), so 1e-4; and the differences must close in on the adjoint's value as h
+    // shrinks (the error at h = 1e-5 at most a fifth of that at 1e-4: measured 27-370 times
+    // smaller), which a wrong derivative would not.
     std::vector<study::Evaluation> up, down;
     const double steps[] = {3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5};
     for (double h : steps) {

@@ -315,6 +315,46 @@ TEST(FlowSolver, BfloatPreconditionerFactorsReachTheSameSolution) {
     EXPECT_LE(half.linearIterations, single.linearIterations + single.linearIterations / 5);
 }
 
+TEST(FlowSolver, ANearerPreconditionerForTheLastNewtonStepsChangesThePathNotTheAnswer) {
+    // NewtonOptions::exactLumping (flow.exact_lumping, off by default): from CFL exactLumpingCfl
+    // on, the exact steps' preconditioner is assembled with less lumping (nearer the exact Jacobian). Only the preconditioner of those
+    // steps changes: every step before the first such one is the same, some GMRES count after it
+    // differs, and the converged state is the same.
+    const testing::FlowCase& c = testing::halfSphere(0.3);
+    const ResidualOptions o = freeStreamAt(0.5, 1.2);
+    NewtonOptions n;
+    n.exactLumping = 2.5;
+    ASSERT_LT(n.exactLumping, o.dissipation.lumping);
+    std::vector<double> q0, q1;
+    const FlowReport nearer = solve(c, o, q0, n);
+    n.exactLumping = 0;
+    const FlowReport plain = solve(c, o, q1, n);
+    ASSERT_TRUE(nearer.converged()) << nearer.message;
+    ASSERT_TRUE(plain.converged()) << plain.message;
+    double worst = 0;
+    for (std::size_t i = 0; i < q0.size(); ++i) worst = std::max(worst, std::abs(q0[i] - q1[i]));
+    std::printf("lumping %g from CFL %g: %d iterations, %d GMRES; lumping %g throughout: %d, %d; states differ by %.3e\n",
+                2.5, n.exactLumpingCfl, nearer.iterations, nearer.linearIterations,
+                o.dissipation.lumping, plain.iterations, plain.linearIterations, worst);
+    EXPECT_LT(worst, 1e-8);
+    std::size_t first = 0;  // the first step the option acts on
+    while (first < plain.history.size() &&
+           !(plain.history[first].exact && plain.history[first].cfl >= n.exactLumpingCfl)) {
+        ++first;
+    }
+    ASSERT_LT(first, plain.history.size()) << "no exact step reached CFL " << n.exactLumpingCfl;
+    ASSERT_GT(nearer.history.size(), first);
+    for (std::size_t k = 0; k < first; ++k) {
+        EXPECT_EQ(nearer.history[k].linearIterations, plain.history[k].linearIterations) << "step " << k + 1;
+        EXPECT_EQ(nearer.history[k].residual, plain.history[k].residual) << "step " << k + 1;
+    }
+    bool differs = nearer.history.size() != plain.history.size();
+    for (std::size_t k = first; k < std::min(nearer.history.size(), plain.history.size()); ++k) {
+        differs = differs || nearer.history[k].linearIterations != plain.history[k].linearIterations;
+    }
+    EXPECT_TRUE(differs) << "the option did not change any step from " << first + 1 << " on";
+}
+
 TEST(FlowSolver, LocalCflKeepsOneStiffNodeFromHoldingTheWholeStep) {
     // A smooth disturbance plus one node at a hundredth of its pressure: the steps that fill it
     // change it by far more than the 30 % limit. With one global step scale the whole field
