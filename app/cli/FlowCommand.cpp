@@ -44,17 +44,20 @@ const char* kFlowHelp =
     "wall faces with Cp), residual_csv, restart. Ctrl+C stops between iterations and keeps the\n"
     "state in the restart file (output.restart, or CASE.restart next to the case); during the\n"
     "solve that file is also rewritten every flow.checkpoint_seconds (60), so a killed run loses\n"
-    "at most that much work. --restart FILE (or flow.restart) continues from it. Exit 1 if the\n"
-    "solver does not converge (the reason is printed; outputs are still written). The reason of\n"
-    "a stall names the fastest mode that grows in pseudo time at the final state, where it is and\n"
-    "what to do (flow.stall_modes, on by default: about 30 GMRES solves), or that none grows;\n"
-    "a solve stopped by max_iterations while its residual still falls says so instead.\n"
+    "at most that much work. --restart FILE (or flow.restart) continues from it; a restart of the\n"
+    "same case at another mesh.refine (another sampling of the same analytic grid) is\n"
+    "interpolated onto this grid as the start, so a refined grid starts from the coarse solution.\n"
+    "Exit 1 if the solver does not converge (the reason is printed; outputs are still written).\n"
+    "The reason of a stall names the fastest mode that grows in pseudo time at the final state,\n"
+    "where it is and what to do (flow.stall_modes, on by default: about 30 GMRES solves), or that\n"
+    "none grows; a solve stopped by max_iterations while its residual still falls says so instead.\n"
     "A solve from the free stream that stalls, diverges or turns non-physical is solved again by\n"
     "continuation in the dissipation: kappa2 and kappa4 times 4, 2, 1.41, then the case's own, each\n"
     "from the state before (finer steps, 1.19 and 1.09, if the case's own does not converge from\n"
     "1.41); the answer is always the case's own problem's.\n"
     "\n"
-    "  --restart FILE  start from this restart file (same grid) instead of the free stream\n"
+    "  --restart FILE  start from this restart file (the same grid, or another mesh.refine of it)\n"
+    "                  instead of the free stream\n"
     "  --adjoint LIST  after a converged solve, the discrete adjoint of each functional of LIST\n"
     "                  (comma-separated: CL, CD, CM, CY) and its derivative with respect to the\n"
     "                  angle of attack, per degree (exit 1 if an adjoint does not converge)\n"
@@ -205,6 +208,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             info.initialResidual = rep.initialResidual;
             info.cflBase = rep.cflBase;
             info.lumping = rep.lumping;
+            if (e.mesh) info.samples = study::gridParameters(e.mesh->control);  // (another mesh.refine can start from it)
             io::writeRestart(restartTo, fm, fr.q, info);
             outputs["restart"] = restartTo;
         }
@@ -294,6 +298,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             j["max_mach_at"] = where(fr.maxMach);
             j["max_entropy_at"] = where(fr.maxEntropy);
             j["largest_residual_at"] = where(fr.largestResidual);
+            if (fr.interpolatedRestart > 0) j["restart_interpolated_from_nodes"] = fr.interpolatedRestart;
             if (!fr.sequencing.empty()) {
                 // The grid-sequencing pre-solves on coarser samplings of the grid, coarsest first.
                 nlohmann::ordered_json sj;

@@ -63,7 +63,7 @@ struct NewtonOptions {
                                        // but like the float basis it moves hard designs' paths at
                                        // round-off level: opt-in below lowMemoryNodes, always
                                        // Bfloat16 from there (docs/performance.md)
-    int lowMemoryNodes = 300000;       // from this many grid nodes on, the approximate Jacobian
+    int lowMemoryNodes = 50000;        // from this many grid nodes on, the approximate Jacobian
                                        // is kept after its ILU is factored only in float and only
                                        // for approximate steps (exact steps free it), and every
                                        // step frees the Krylov basis before the next assembly, so
@@ -72,7 +72,10 @@ struct NewtonOptions {
                                        // ILU factors are stored in bfloat16 and the basis in float
                                        // (whatever iluPrecision and gmresSingleBasis say): the
                                        // paper grid in 3.59 GB instead of 6.32 GB, the same
-                                       // iterations (0: always; docs/performance.md)
+                                       // iterations; the 75k half-sphere in 273 MB instead of 479
+                                       // and 0.88x the time (300,000 until the thirty-third
+                                       // session; the 14k grids of the robustness suite stay
+                                       // below it) (0: always; docs/performance.md)
     ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
                                        // products: a real residual's difference (3.5x cheaper than
                                        // a complex one; Jacobian.h) or complex step

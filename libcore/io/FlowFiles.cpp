@@ -18,7 +18,7 @@ namespace aero::io {
 namespace {
 
 constexpr char kMagic[16] = {'A', 'E', 'R', 'O', 'F', 'O', 'R', 'M', '-', 'R', 'E', 'S', 'T', 'A', 'R', 'T'};
-constexpr std::uint32_t kRestartVersion = 1;
+constexpr std::uint32_t kRestartVersion = 2;  // 2: the blocks' grid parameters (optional)
 
 // FNV-1a, 64 bit: detects truncation and bit rot, not tampering.
 struct Checksum {
@@ -97,6 +97,13 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
         throw Error("restart '" + path + "': state has " + std::to_string(q.size()) + " values, the grid needs " +
                     std::to_string(flow::kVars * fm.nodeCount));
     }
+    if (!info.samples.empty()) {
+        bool fits = info.samples.size() == fm.blocks.size();
+        for (std::size_t b = 0; fits && b < fm.blocks.size(); ++b) {
+            for (int d = 0; d < 3; ++d) fits = fits && info.samples[b][d].size() == static_cast<std::size_t>(fm.blocks[b].dims[d]);
+        }
+        if (!fits) throw Error("restart '" + path + "': the grid parameters do not match the grid's blocks");
+    }
     ensureParent(path);
     const std::string tmp = path + ".tmp";
     {
@@ -108,6 +115,10 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
         w.put(static_cast<std::uint32_t>(fm.blocks.size()));
         for (const flow::FlowBlock& b : fm.blocks) {
             for (int d = 0; d < 3; ++d) w.put(static_cast<std::int32_t>(b.dims[d]));
+        }
+        w.put(static_cast<std::uint8_t>(info.samples.empty() ? 0 : 1));
+        for (const auto& block : info.samples) {
+            for (const auto& u : block) w.bytes(u.data(), u.size() * sizeof(double));
         }
         w.put(info.freeStream.mach);
         w.put(info.freeStream.alphaDeg);
@@ -132,10 +143,12 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
     replaceWith(tmp, path);
 }
 
-std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info) {
+RestartContents readRestartContents(const std::string& path) {
     checkInputFile(path, "restart file", std::uintmax_t(1) << 40);
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError("cannot open restart file '" + path + "'");
+    if (ec || !in) throw InputError("cannot open restart file '" + path + "'");
     Reader r(in, path);
     char magic[sizeof kMagic];
     r.bytes(magic, sizeof magic, "header");
@@ -143,26 +156,54 @@ std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& f
         throw InputError("'" + path + "' is not an Aeroform restart file");
     }
     const auto version = r.get<std::uint32_t>("header");
-    if (version != kRestartVersion) {
-        throw InputError("restart file '" + path + "': version " + std::to_string(version) + ", this build reads " +
+    if (version != 1 && version != kRestartVersion) {
+        throw InputError("restart file '" + path + "': version " + std::to_string(version) + ", this build reads 1 to " +
                          std::to_string(kRestartVersion));
     }
+    // Every count below is checked against the file's size before anything is allocated for it.
     const auto blocks = r.get<std::uint32_t>("header");
-    if (blocks != fm.blocks.size()) {
-        throw InputError("restart file '" + path + "' was written for a grid of " + std::to_string(blocks) +
-                         " blocks, this grid has " + std::to_string(fm.blocks.size()));
+    if (blocks == 0 || blocks > size / 12) {
+        throw InputError("restart file '" + path + "': " + std::to_string(blocks) + " blocks (the file is corrupt)");
     }
-    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
-        std::array<std::int32_t, 3> dims{};
-        for (int d = 0; d < 3; ++d) dims[d] = r.get<std::int32_t>("block sizes");
-        const auto& want = fm.blocks[b].dims;
-        if (dims[0] != want[0] || dims[1] != want[1] || dims[2] != want[2]) {
-            auto str = [](auto a) { return std::to_string(a[0]) + "x" + std::to_string(a[1]) + "x" + std::to_string(a[2]); };
-            throw InputError("restart file '" + path + "': block " + std::to_string(b) + " ('" + fm.blocks[b].name +
-                             "') has " + str(dims) + " nodes in the file, " + str(want) + " in this grid");
+    RestartContents c;
+    c.dims.resize(blocks);
+    std::uint64_t nodes = 0, parameters = 0;
+    for (std::uint32_t b = 0; b < blocks; ++b) {
+        for (int d = 0; d < 3; ++d) {
+            c.dims[b][d] = r.get<std::int32_t>("block sizes");
+            if (c.dims[b][d] < 1 || static_cast<std::uintmax_t>(c.dims[b][d]) > size) {
+                throw InputError("restart file '" + path + "': block " + std::to_string(b) + " has " +
+                                 std::to_string(c.dims[b][d]) + " nodes along a direction (the file is corrupt)");
+            }
+            parameters += static_cast<std::uint64_t>(c.dims[b][d]);
+        }
+        nodes += static_cast<std::uint64_t>(c.dims[b][0]) * static_cast<std::uint64_t>(c.dims[b][1]) *
+                 static_cast<std::uint64_t>(c.dims[b][2]);
+        if (nodes > size / (flow::kVars * sizeof(double))) {
+            throw InputError("restart file '" + path + "': truncated or corrupt (its blocks have more nodes than its " +
+                             std::to_string(size) + " bytes hold)");
         }
     }
-    RestartInfo ri;
+    RestartInfo& ri = c.info;
+    if (version >= 2 && r.get<std::uint8_t>("grid parameters") != 0) {
+        if (parameters > size / sizeof(double)) {
+            throw InputError("restart file '" + path + "': truncated (ends inside the grid parameters)");
+        }
+        ri.samples.resize(blocks);
+        for (std::uint32_t b = 0; b < blocks; ++b) {
+            for (int d = 0; d < 3; ++d) {
+                std::vector<double>& u = ri.samples[b][d];
+                u.resize(static_cast<std::size_t>(c.dims[b][d]));
+                r.bytes(u.data(), u.size() * sizeof(double), "grid parameters");
+                for (std::size_t i = 0; i < u.size(); ++i) {
+                    if (!std::isfinite(u[i]) || (i > 0 && !(u[i] > u[i - 1]))) {
+                        throw InputError("restart file '" + path + "': the grid parameters of block " + std::to_string(b) +
+                                         " do not increase along direction " + std::to_string(d) + " (the file is corrupt)");
+                    }
+                }
+            }
+        }
+    }
     ri.freeStream.mach = r.get<double>("free stream");
     ri.freeStream.alphaDeg = r.get<double>("free stream");
     ri.freeStream.gamma = r.get<double>("free stream");
@@ -171,13 +212,13 @@ std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& f
     ri.initialResidual = r.get<double>("iteration data");
     ri.cflBase = r.get<double>("iteration data");
     ri.lumping = r.get<double>("iteration data");
-    const auto nodes = r.get<std::uint64_t>("node count");
-    if (nodes != static_cast<std::uint64_t>(fm.nodeCount)) {
-        throw InputError("restart file '" + path + "': " + std::to_string(nodes) + " nodes, this grid has " +
-                         std::to_string(fm.nodeCount));
+    const auto storedNodes = r.get<std::uint64_t>("node count");
+    if (storedNodes != nodes) {
+        throw InputError("restart file '" + path + "': " + std::to_string(storedNodes) + " nodes, its blocks have " +
+                         std::to_string(nodes) + " (the file is corrupt)");
     }
-    std::vector<double> q(static_cast<std::size_t>(flow::kVars * fm.nodeCount));
-    r.bytes(q.data(), q.size() * sizeof(double), "state");
+    c.q.resize(static_cast<std::size_t>(flow::kVars * nodes));
+    r.bytes(c.q.data(), c.q.size() * sizeof(double), "state");
     const std::uint64_t expected = r.checksum();
     std::uint64_t stored = 0;
     in.read(reinterpret_cast<char*>(&stored), sizeof stored);
@@ -187,13 +228,35 @@ std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& f
         // Anything after the checksum is not ours: two files concatenated, or a damaged copy.
         throw InputError("restart file '" + path + "': data after the checksum (the file is corrupt or not one restart)");
     }
-    for (std::size_t i = 0; i < q.size(); ++i) {
-        if (!std::isfinite(q[i])) {
+    for (std::size_t i = 0; i < c.q.size(); ++i) {
+        if (!std::isfinite(c.q[i])) {
             throw InputError("restart file '" + path + "': non-finite value at node " + std::to_string(i / flow::kVars));
         }
     }
-    if (info) *info = ri;
-    return q;
+    return c;
+}
+
+void checkRestartLayout(const std::string& path, const RestartContents& file, const flow::FlowMesh& fm) {
+    if (file.dims.size() != fm.blocks.size()) {
+        throw InputError("restart file '" + path + "' was written for a grid of " + std::to_string(file.dims.size()) +
+                         " blocks, this grid has " + std::to_string(fm.blocks.size()));
+    }
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        const auto& dims = file.dims[b];
+        const auto& want = fm.blocks[b].dims;
+        if (dims[0] != want[0] || dims[1] != want[1] || dims[2] != want[2]) {
+            auto str = [](auto a) { return std::to_string(a[0]) + "x" + std::to_string(a[1]) + "x" + std::to_string(a[2]); };
+            throw InputError("restart file '" + path + "': block " + std::to_string(b) + " ('" + fm.blocks[b].name +
+                             "') has " + str(dims) + " nodes in the file, " + str(want) + " in this grid");
+        }
+    }
+}
+
+std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info) {
+    RestartContents c = readRestartContents(path);
+    checkRestartLayout(path, c, fm);
+    if (info) *info = std::move(c.info);
+    return std::move(c.q);
 }
 
 void writeResidualCsv(const std::string& path, const std::vector<flow::FlowIteration>& history, int first) {

@@ -2,6 +2,7 @@
 // Files of a flow solution: the restart file (the state q with the layout it belongs to and the
 // free stream it was computed for), the residual history as CSV and the solution fields as VTK
 // XML multiblock for ParaView (volume fields per block plus the wall faces with Cp).
+#include <array>
 #include <string>
 #include <vector>
 
@@ -19,12 +20,25 @@ struct RestartInfo {
     double initialResidual = 0;  // ||R0|| of the first run (so orders stay comparable on resume)
     double cflBase = 0;          // the CFL law's base when it was written
     double lumping = 0;          // the preconditioner's lumping factor then (0: not recorded)
+    /// Per block, the parameters of its grid nodes along i, j, k in the analytic grid the state
+    /// was solved on (mesh::GridBlock::samples): what lets a state be carried to another sampling
+    /// of that grid (a finer mesh.refine). Empty when not recorded (files of version 1).
+    std::vector<std::array<std::vector<double>, 3>> samples;
+};
+
+/// A restart file whatever grid it was written for: its header, the dims of its blocks and q.
+struct RestartContents {
+    RestartInfo info;
+    std::vector<std::array<int, 3>> dims;  // per block, nodes along i, j, k
+    std::vector<double> q;                 // 5 per node, blocks one after the other
 };
 
 /// Writes q (5 per node, fm's order) to `path`, replacing it atomically (temporary file +
 /// rename: an interrupted write never leaves a truncated restart behind). Binary, little endian:
-/// magic, version, block count, dims of every block, free stream, iteration data, node count,
-/// q, and a checksum of everything before it. Throws InputError naming the path.
+/// magic, version, block count, dims of every block, the blocks' grid parameters when
+/// info.samples has them (a flag, then dims[d] doubles per block and direction), free stream,
+/// iteration data, node count, q, and a checksum of everything before it. Throws InputError
+/// naming the path, Error when info.samples does not match fm's blocks.
 void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& q,
                   const RestartInfo& info);
 
@@ -32,6 +46,16 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
 /// read, is not a restart file, is truncated or corrupt (checksum), or was written for another
 /// grid (block count, or the block and its dims that differ).
 std::vector<double> readRestart(const std::string& path, const flow::FlowMesh& fm, RestartInfo* info = nullptr);
+
+/// Reads a restart file of any grid (this version's and version 1). Throws InputError naming the
+/// file when it cannot be read, is not a restart file, is truncated or corrupt, or is not
+/// consistent in itself (node count against the blocks' dims, grid parameters that do not
+/// increase); nothing is allocated from a count the file's size does not back.
+RestartContents readRestartContents(const std::string& path);
+
+/// Throws the InputError readRestart gives when `file` (read from `path`) was written for
+/// another grid than fm (block count, a block's dims).
+void checkRestartLayout(const std::string& path, const RestartContents& file, const flow::FlowMesh& fm);
 
 /// A bare flow state (an optimization's warm starts: the node count, then q; native byte order,
 /// no layout), written atomically.

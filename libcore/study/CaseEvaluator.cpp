@@ -384,9 +384,25 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             if (progress) progress({Stage::Flow, "", &it, coarse, coarse ? offset : f->previousIterations});
         };
     };
-    if (request.start && !request.start->restartFile.empty()) {
-        io::RestartInfo previous;
-        q = io::readRestart(request.start->restartFile, f->mesh, &previous);
+    io::RestartContents file;
+    if (request.start && !request.start->restartFile.empty()) file = io::readRestartContents(request.start->restartFile);
+    bool sameLayout = file.dims.size() == f->mesh.blocks.size();
+    for (std::size_t b = 0; sameLayout && b < file.dims.size(); ++b) sameLayout = file.dims[b] == f->mesh.blocks[b].dims;
+    if (!file.q.empty() && !sameLayout && !file.info.samples.empty() && file.dims.size() == f->mesh.blocks.size()) {
+        // Another sampling of this analytic grid (a finer or coarser mesh.refine of the same
+        // blocks): its state interpolated in the grid parameters, as grid sequencing prolongs, is
+        // a start, not the run continued (the orders refer to this grid's free stream).
+        q = interpolateState(file.info.samples, file.q, gridParameters(m.control), f->mesh);
+        no.cfl0 = std::max(no.cfl0, 10.0 * case_.flow.newton.cfl0);
+        f->interpolatedRestart = static_cast<long>(file.q.size() / flow::kVars);
+        say(format("restart from %s: %ld nodes of another sampling of this grid (%d iterations done, residual %.3e), "
+                   "interpolated onto its %ld nodes as the initial state",
+                   request.start->restartFile.c_str(), f->interpolatedRestart, file.info.iterations, file.info.residual,
+                   f->mesh.nodeCount));
+    } else if (!file.q.empty()) {
+        io::checkRestartLayout(request.start->restartFile, file, f->mesh);
+        const io::RestartInfo& previous = file.info;
+        q = std::move(file.q);
         const flow::FreeStream& fs = previous.freeStream;
         say(format("restart from %s: %d iterations done, residual %.3e (Mach %g, alpha %g)",
                    request.start->restartFile.c_str(), previous.iterations, previous.residual, fs.mach, fs.alphaDeg));
@@ -496,6 +512,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             info.initialResidual = sofar.initialResidual;
             info.cflBase = sofar.cflBase;
             info.lumping = sofar.lumping;
+            info.samples = gridParameters(m.control);
             try {
                 io::writeRestart(request.checkpointFile, f->mesh, state, info);
                 ++f->checkpoints;
@@ -844,13 +861,38 @@ std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow:
         fineFlow.blocks.size() != fine.blocks.size()) {
         throw Error("prolongState: the two meshes have different blocks");
     }
-    std::vector<double> out(5 * static_cast<std::size_t>(fineFlow.nodeCount));
-    for (std::size_t b = 0; b < fine.blocks.size(); ++b) {
-        const auto& cs = coarse.blocks[b].samples;
-        const auto& fs = fine.blocks[b].samples;
-        const flow::FlowBlock& cb = coarseFlow.blocks[b];
-        const flow::FlowBlock& fb = fineFlow.blocks[b];
-        // Per direction: for every fine sample, the coarse interval and the weight of its upper end.
+    return interpolateState(gridParameters(coarse), q, gridParameters(fine), fineFlow);
+}
+
+GridParameters gridParameters(const mesh::MultiBlockMesh& m) {
+    GridParameters p;
+    p.reserve(m.blocks.size());
+    for (const auto& b : m.blocks) p.push_back(b.samples);
+    return p;
+}
+
+std::vector<double> interpolateState(const GridParameters& from, const std::vector<double>& q, const GridParameters& to,
+                                     const flow::FlowMesh& toFlow) {
+    if (from.size() != to.size() || to.size() != toFlow.blocks.size()) {
+        throw Error("interpolateState: the two samplings have different blocks");
+    }
+    std::size_t values = 0;
+    for (std::size_t b = 0; b < to.size(); ++b) {
+        values += 5 * from[b][0].size() * from[b][1].size() * from[b][2].size();
+        for (int d = 0; d < 3; ++d) {
+            if (from[b][d].empty() || to[b][d].size() != static_cast<std::size_t>(toFlow.blocks[b].dims[d])) {
+                throw Error("interpolateState: block " + std::to_string(b) + "'s parameters do not match its nodes");
+            }
+        }
+    }
+    if (values != q.size()) throw Error("interpolateState: the state does not match its sampling");
+    std::vector<double> out(5 * static_cast<std::size_t>(toFlow.nodeCount));
+    long cOffset = 0;  // the first node of block b in q
+    for (std::size_t b = 0; b < to.size(); ++b) {
+        const auto& cs = from[b];
+        const auto& fs = to[b];
+        const flow::FlowBlock& fb = toFlow.blocks[b];
+        // Per direction: for every target node, the source interval and the weight of its upper end.
         std::array<std::vector<int>, 3> lo;
         std::array<std::vector<double>, 3> w;
         for (int d = 0; d < 3; ++d) {
@@ -858,6 +900,7 @@ std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow:
             lo[d].resize(fs[d].size());
             w[d].resize(fs[d].size());
             for (std::size_t i = 0; i < fs[d].size(); ++i) {
+                if (nc == 1) continue;  // one node along d: its value throughout (lo 0, weight 0)
                 const double u = fs[d][i];
                 int a = static_cast<int>(std::upper_bound(cs[d].begin(), cs[d].end(), u) - cs[d].begin()) - 1;
                 a = std::clamp(a, 0, nc - 2);
@@ -866,7 +909,7 @@ std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow:
                 w[d][i] = h > 0 ? std::clamp((u - cs[d][a]) / h, 0.0, 1.0) : 0.0;
             }
         }
-        const long cni = cb.dims[0], cnj = cb.dims[1];
+        const long cni = static_cast<long>(cs[0].size()), cnj = static_cast<long>(cs[1].size());
 #pragma omp parallel for schedule(static)
         for (int k = 0; k < fb.dims[2]; ++k) {
             for (int j = 0; j < fb.dims[1]; ++j) {
@@ -877,12 +920,13 @@ std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow:
                         const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
                         const double wt = (di ? w[0][i] : 1 - w[0][i]) * (dj ? w[1][j] : 1 - w[1][j]) * (dk ? w[2][k] : 1 - w[2][k]);
                         if (wt == 0.0) continue;
-                        const long cn = cb.offset + (lo[0][i] + di) + cni * ((lo[1][j] + dj) + cnj * (lo[2][k] + dk));
+                        const long cn = cOffset + (lo[0][i] + di) + cni * ((lo[1][j] + dj) + cnj * (lo[2][k] + dk));
                         for (int v = 0; v < 5; ++v) o[v] += wt * q[5 * cn + v];
                     }
                 }
             }
         }
+        cOffset += cni * cnj * static_cast<long>(cs[2].size());
     }
     return out;
 }

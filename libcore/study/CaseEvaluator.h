@@ -64,7 +64,9 @@ const char* evaluationStatusName(EvaluationStatus s);
 struct FlowStart {
     std::string restartFile;          // non-empty: read the state from this restart file (same
                                       // grid; with the same free stream the run is continued:
-                                      // its iteration count, reference residual, CFL, lumping)
+                                      // its iteration count, reference residual, CFL, lumping;
+                                      // of another sampling of the same analytic grid, with the
+                                      // grid parameters recorded: interpolated, a start only)
     std::vector<double> state;        // non-empty: start here (5 per node of this grid)
     double referenceResidual = 0;     // > 0: the run this one continues (restart)
     double cflBase = 0;               // > 0: the CFL law's base to continue with
@@ -215,6 +217,8 @@ struct FlowResult {
     int previousIterations = 0;             // a continued restart: the iterations before this run
     int checkpoints = 0;                    // restart files written during the solve
     bool restartContinued = false;          // the restart had the same free stream: same run
+    long interpolatedRestart = 0;           // > 0: the restart was of another sampling of the
+                                            // grid with this many nodes, interpolated onto it
     flow::ForceCoefficients forces;
     FlowLocation maxMach, maxEntropy;       // largest local Mach number, largest |s - s_inf|
     FlowLocation largestResidual;           // largest |R| per unit volume at the final state
@@ -318,5 +322,18 @@ private:
 std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow::FlowMesh& coarseFlow,
                                  const std::vector<double>& q, const mesh::MultiBlockMesh& fine,
                                  const flow::FlowMesh& fineFlow);
+
+/// Per block, the grid-node parameters along i, j, k (mesh::GridBlock::samples, as a restart
+/// file records them: io::RestartInfo::samples).
+using GridParameters = std::vector<std::array<std::vector<double>, 3>>;
+GridParameters gridParameters(const mesh::MultiBlockMesh& m);
+
+/// The state q given at the nodes of blocks sampled at `from` (blocks one after the other, i
+/// fastest) interpolated trilinearly in parameter space at the nodes of `toFlow`, sampled at
+/// `to`; parameters outside `from`'s range take its end values. Any two samplings of the same
+/// blocks, finer or coarser (a restart carried to another mesh.refine); throws Error when the
+/// block counts or sizes do not match.
+std::vector<double> interpolateState(const GridParameters& from, const std::vector<double>& q, const GridParameters& to,
+                                     const flow::FlowMesh& toFlow);
 
 }  // namespace aero::study

@@ -1,6 +1,6 @@
 // Fuzz target: the flow restart reader (io/FlowFiles.h) through a file, for a fixed two-block
 // layout of 5x6x3 and 4x5x2 nodes (the seeds in corpus/restart were written for it by
-// tests/io/FlowFilesTest.cpp).
+// tests/io/FlowFilesTest.cpp; samples.restart is of version 2, with the grid parameters).
 #include "FuzzInput.h"
 #include "common/Error.h"
 #include "io/FlowFiles.h"

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -108,6 +110,60 @@ TEST(FlowFiles, RestartForAnotherGridOrDamagedIsRejectedWithTheReason) {
     std::ofstream(other, std::ios::binary) << "{\"format\": \"aeroform.case\"}";
     expectInputError(other, fm, "not an Aeroform restart file");
     expectInputError(outPath("missing.restart"), fm, "cannot open");
+}
+
+// Version 2 records every block's grid parameters (what lets another mesh.refine of the same
+// analytic grid start from the state); files of version 1 (the fuzz corpus's seed, written by
+// the first version of the test above) still read, without them.
+TEST(FlowFiles, RestartRecordsTheGridParametersAndVersionOneStillReads) {
+    const flow::FlowMesh fm = twoBlocks(5);
+    io::RestartInfo info;
+    info.iterations = 7;
+    for (const flow::FlowBlock& b : fm.blocks) {
+        std::array<std::vector<double>, 3> s;
+        for (int d = 0; d < 3; ++d) {
+            for (int i = 0; i < b.dims[d]; ++i) s[d].push_back(std::pow(static_cast<double>(i) / (b.dims[d] - 1), 1.5));
+        }
+        info.samples.push_back(s);
+    }
+    const std::string path = outPath("samples.restart");
+    io::writeRestart(path, fm, someState(fm), info);
+    const io::RestartContents c = io::readRestartContents(path);
+    ASSERT_EQ(c.dims.size(), 2u);
+    EXPECT_EQ(c.dims[1], (std::array<int, 3>{4, 5, 2}));
+    EXPECT_EQ(c.info.samples, info.samples);
+    EXPECT_EQ(c.q, someState(fm));
+    EXPECT_EQ(c.info.iterations, 7);
+    io::RestartInfo back;
+    EXPECT_EQ(io::readRestart(path, fm, &back), someState(fm));
+    EXPECT_EQ(back.samples, info.samples);
+    // Another grid: the layout check names the block, as for a file without parameters.
+    EXPECT_THROW(io::checkRestartLayout(path, c, twoBlocks(6)), InputError);
+
+    // Parameters that do not match the blocks are a caller's error; ones that do not increase
+    // (a damaged or forged file whose checksum still holds) are the file's.
+    io::RestartInfo wrong = info;
+    wrong.samples[1][2].pop_back();
+    EXPECT_THROW(io::writeRestart(outPath("wrong.restart"), fm, someState(fm), wrong), Error);
+    io::RestartInfo flat = info;
+    flat.samples[0][1][2] = flat.samples[0][1][1];
+    const std::string flatPath = outPath("flat.restart");
+    io::writeRestart(flatPath, fm, someState(fm), flat);
+    try {
+        io::readRestartContents(flatPath);
+        ADD_FAILURE() << "no error for parameters that do not increase";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("grid parameters of block 0 do not increase along direction 1"), std::string::npos)
+            << e.what();
+    }
+
+    const std::string v1 = std::string(AEROFORM_TEST_DATA_DIR) + "/../fuzz/corpus/restart/a.restart";
+    io::RestartInfo old;
+    const std::vector<double> q = io::readRestart(v1, fm, &old);
+    EXPECT_EQ(q, someState(fm));
+    EXPECT_EQ(old.iterations, 42);
+    EXPECT_EQ(old.lumping, 6.0);
+    EXPECT_TRUE(old.samples.empty());
 }
 
 TEST(FlowFiles, ResidualCsvHasOneRowPerIterationContinuingTheCount) {
