@@ -208,7 +208,10 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             info.initialResidual = rep.initialResidual;
             info.cflBase = rep.cflBase;
             info.lumping = rep.lumping;
-            if (e.mesh) info.samples = study::gridParameters(e.mesh->control);  // (another mesh.refine can start from it)
+            if (e.mesh) {  // (another mesh.refine of this grid can start from it)
+                info.samples = study::gridParameters(e.mesh->control);
+                info.corners = io::blockCorners(fm, fr.x);
+            }
             io::writeRestart(restartTo, fm, fr.q, info);
             outputs["restart"] = restartTo;
         }

@@ -102,7 +102,9 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
         for (std::size_t b = 0; fits && b < fm.blocks.size(); ++b) {
             for (int d = 0; d < 3; ++d) fits = fits && info.samples[b][d].size() == static_cast<std::size_t>(fm.blocks[b].dims[d]);
         }
-        if (!fits) throw Error("restart '" + path + "': the grid parameters do not match the grid's blocks");
+        if (!fits || info.corners.size() != fm.blocks.size()) {
+            throw Error("restart '" + path + "': the grid parameters or corners do not match the grid's blocks");
+        }
     }
     ensureParent(path);
     const std::string tmp = path + ".tmp";
@@ -119,6 +121,9 @@ void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::
         w.put(static_cast<std::uint8_t>(info.samples.empty() ? 0 : 1));
         for (const auto& block : info.samples) {
             for (const auto& u : block) w.bytes(u.data(), u.size() * sizeof(double));
+        }
+        if (!info.samples.empty()) {
+            for (const auto& c : info.corners) w.bytes(c.data(), sizeof c);
         }
         w.put(info.freeStream.mach);
         w.put(info.freeStream.alphaDeg);
@@ -203,6 +208,11 @@ RestartContents readRestartContents(const std::string& path) {
                 }
             }
         }
+        if (blocks > size / sizeof(std::array<double, 24>)) {
+            throw InputError("restart file '" + path + "': truncated (ends inside the block corners)");
+        }
+        ri.corners.resize(blocks);
+        for (auto& corner : ri.corners) r.bytes(corner.data(), sizeof corner, "block corners");
     }
     ri.freeStream.mach = r.get<double>("free stream");
     ri.freeStream.alphaDeg = r.get<double>("free stream");
@@ -234,6 +244,19 @@ RestartContents readRestartContents(const std::string& path) {
         }
     }
     return c;
+}
+
+std::vector<std::array<double, 24>> blockCorners(const flow::FlowMesh& fm, const std::vector<double>& x) {
+    std::vector<std::array<double, 24>> corners(fm.blocks.size());
+    for (std::size_t b = 0; b < fm.blocks.size(); ++b) {
+        const flow::FlowBlock& blk = fm.blocks[b];
+        for (int c = 0; c < 8; ++c) {
+            const long i = (c & 1) ? blk.dims[0] - 1 : 0, j = (c & 2) ? blk.dims[1] - 1 : 0, k = (c & 4) ? blk.dims[2] - 1 : 0;
+            const long n = blk.offset + i + blk.dims[0] * (j + static_cast<long>(blk.dims[1]) * k);
+            for (int d = 0; d < 3; ++d) corners[b][3 * c + d] = x[3 * static_cast<std::size_t>(n) + d];
+        }
+    }
+    return corners;
 }
 
 void checkRestartLayout(const std::string& path, const RestartContents& file, const flow::FlowMesh& fm) {

@@ -24,7 +24,14 @@ struct RestartInfo {
     /// was solved on (mesh::GridBlock::samples): what lets a state be carried to another sampling
     /// of that grid (a finer mesh.refine). Empty when not recorded (files of version 1).
     std::vector<std::array<std::vector<double>, 3>> samples;
+    /// Per block, the coordinates of its 8 corner nodes (i fastest, then j, k; blockCorners),
+    /// recorded with `samples`: samplings of the same analytic grid share them, another level,
+    /// farfield or shape does not.
+    std::vector<std::array<double, 24>> corners;
 };
+
+/// The corners of every block of fm at the node coordinates x (3 per node): RestartInfo::corners.
+std::vector<std::array<double, 24>> blockCorners(const flow::FlowMesh& fm, const std::vector<double>& x);
 
 /// A restart file whatever grid it was written for: its header, the dims of its blocks and q.
 struct RestartContents {
@@ -36,9 +43,10 @@ struct RestartContents {
 /// Writes q (5 per node, fm's order) to `path`, replacing it atomically (temporary file +
 /// rename: an interrupted write never leaves a truncated restart behind). Binary, little endian:
 /// magic, version, block count, dims of every block, the blocks' grid parameters when
-/// info.samples has them (a flag, then dims[d] doubles per block and direction), free stream,
-/// iteration data, node count, q, and a checksum of everything before it. Throws InputError
-/// naming the path, Error when info.samples does not match fm's blocks.
+/// info.samples has them (a flag, then dims[d] doubles per block and direction, then the 24
+/// corner coordinates per block), free stream, iteration data, node count, q, and a checksum of
+/// everything before it. Throws InputError naming the path, Error when info.samples or
+/// info.corners do not match fm's blocks.
 void writeRestart(const std::string& path, const flow::FlowMesh& fm, const std::vector<double>& q,
                   const RestartInfo& info);
 

@@ -91,6 +91,27 @@ mesh::ExtrusionOptions coarser(mesh::ExtrusionOptions o, int level) {
     return o;
 }
 
+// Empty when two samplings' block corners (io::blockCorners) are the same points, i.e. the
+// samplings are of the same analytic grid; else the first that differs, for an error message.
+std::string sameCorners(const std::vector<std::array<double, 24>>& file, const std::vector<std::array<double, 24>>& here) {
+    for (std::size_t b = 0; b < here.size() && b < file.size(); ++b) {
+        for (int c = 0; c < 8; ++c) {
+            double gap = 0, size = 1;
+            for (int d = 0; d < 3; ++d) {
+                gap = std::max(gap, std::abs(file[b][3 * c + d] - here[b][3 * c + d]));
+                size = std::max(size, std::abs(here[b][3 * c + d]));
+            }
+            if (gap > 1e-8 * size) {
+                return format("; its block %zu's corner %d is at (%.6g, %.6g, %.6g), this grid's at (%.6g, %.6g, %.6g): it is "
+                              "not another sampling of this grid (another mesh level, farfield radius, wall spacing or shape)",
+                              b, c, file[b][3 * c], file[b][3 * c + 1], file[b][3 * c + 2], here[b][3 * c], here[b][3 * c + 1],
+                              here[b][3 * c + 2]);
+            }
+        }
+    }
+    return file.size() == here.size() ? "" : "; its blocks are not this grid's";
+}
+
 // The free stream's residual norm on a grid: what relative tolerances refer to.
 double freeStreamResidual(const flow::FlowMesh& fm, const std::vector<double>& metrics, const flow::ResidualOptions& ro) {
     const std::vector<double> q = flow::freeStreamState(fm, ro.freeStream);
@@ -388,7 +409,20 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     if (request.start && !request.start->restartFile.empty()) file = io::readRestartContents(request.start->restartFile);
     bool sameLayout = file.dims.size() == f->mesh.blocks.size();
     for (std::size_t b = 0; sameLayout && b < file.dims.size(); ++b) sameLayout = file.dims[b] == f->mesh.blocks[b].dims;
-    if (!file.q.empty() && !sameLayout && !file.info.samples.empty() && file.dims.size() == f->mesh.blocks.size()) {
+    std::string otherGrid;  // why a restart of other dims is not another sampling of this grid
+    if (!file.q.empty() && !sameLayout && file.dims.size() == f->mesh.blocks.size()) {
+        otherGrid = file.info.samples.empty() ? "; the file does not record its grid parameters (version 1), so it cannot be "
+                                                "interpolated onto this grid"
+                                              : sameCorners(file.info.corners, io::blockCorners(f->mesh, f->x));
+        if (!otherGrid.empty()) {
+            try {
+                io::checkRestartLayout(request.start->restartFile, file, f->mesh);
+            } catch (const InputError& err) {
+                throw InputError(err.what() + otherGrid);
+            }
+        }
+    }
+    if (!file.q.empty() && !sameLayout && file.dims.size() == f->mesh.blocks.size()) {
         // Another sampling of this analytic grid (a finer or coarser mesh.refine of the same
         // blocks): its state interpolated in the grid parameters, as grid sequencing prolongs, is
         // a start, not the run continued (the orders refer to this grid's free stream).
@@ -513,6 +547,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             info.cflBase = sofar.cflBase;
             info.lumping = sofar.lumping;
             info.samples = gridParameters(m.control);
+            info.corners = io::blockCorners(f->mesh, f->x);
             try {
                 io::writeRestart(request.checkpointFile, f->mesh, state, info);
                 ++f->checkpoints;

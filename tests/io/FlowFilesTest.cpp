@@ -125,6 +125,9 @@ TEST(FlowFiles, RestartRecordsTheGridParametersAndVersionOneStillReads) {
             for (int i = 0; i < b.dims[d]; ++i) s[d].push_back(std::pow(static_cast<double>(i) / (b.dims[d] - 1), 1.5));
         }
         info.samples.push_back(s);
+        std::array<double, 24> corners{};
+        for (int i = 0; i < 24; ++i) corners[i] = 0.5 * i + static_cast<double>(b.offset);
+        info.corners.push_back(corners);
     }
     const std::string path = outPath("samples.restart");
     io::writeRestart(path, fm, someState(fm), info);
@@ -132,6 +135,7 @@ TEST(FlowFiles, RestartRecordsTheGridParametersAndVersionOneStillReads) {
     ASSERT_EQ(c.dims.size(), 2u);
     EXPECT_EQ(c.dims[1], (std::array<int, 3>{4, 5, 2}));
     EXPECT_EQ(c.info.samples, info.samples);
+    EXPECT_EQ(c.info.corners, info.corners);
     EXPECT_EQ(c.q, someState(fm));
     EXPECT_EQ(c.info.iterations, 7);
     io::RestartInfo back;
@@ -145,6 +149,9 @@ TEST(FlowFiles, RestartRecordsTheGridParametersAndVersionOneStillReads) {
     io::RestartInfo wrong = info;
     wrong.samples[1][2].pop_back();
     EXPECT_THROW(io::writeRestart(outPath("wrong.restart"), fm, someState(fm), wrong), Error);
+    io::RestartInfo cornerless = info;
+    cornerless.corners.clear();
+    EXPECT_THROW(io::writeRestart(outPath("wrong.restart"), fm, someState(fm), cornerless), Error);
     io::RestartInfo flat = info;
     flat.samples[0][1][2] = flat.samples[0][1][1];
     const std::string flatPath = outPath("flat.restart");
@@ -164,6 +171,18 @@ TEST(FlowFiles, RestartRecordsTheGridParametersAndVersionOneStillReads) {
     EXPECT_EQ(old.iterations, 42);
     EXPECT_EQ(old.lumping, 6.0);
     EXPECT_TRUE(old.samples.empty());
+    EXPECT_TRUE(old.corners.empty());
+
+    // The corners are those of the nodes at the ends of every block's i, j, k.
+    std::vector<double> x(3 * fm.nodeCount);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i);
+    const auto corners = io::blockCorners(fm, x);
+    ASSERT_EQ(corners.size(), 2u);
+    const long last0 = 5 * 6 * 3 - 1, first1 = fm.blocks[1].offset, far1 = first1 + 3;  // block 1: 4x5x2
+    EXPECT_EQ(corners[0][0], 0.0);
+    EXPECT_EQ(corners[0][21], 3.0 * last0);
+    EXPECT_EQ(corners[1][0], 3.0 * first1);
+    EXPECT_EQ(corners[1][3], 3.0 * far1);
 }
 
 TEST(FlowFiles, ResidualCsvHasOneRowPerIterationContinuingTheCount) {

@@ -258,6 +258,7 @@ TEST(CaseEvaluator, ARestartOfAnotherRefineStartsTheFinerGrid) {
     info.freeStream = c.flow->residualOptions.freeStream;
     info.iterations = c.flow->report.iterations;
     info.samples = study::gridParameters(c.mesh->control);
+    info.corners = io::blockCorners(c.flow->mesh, c.flow->x);
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/restart_refine";
     std::filesystem::create_directories(dir);
     io::writeRestart(dir + "/coarse.restart", c.flow->mesh, c.flow->q, info);
@@ -280,15 +281,36 @@ TEST(CaseEvaluator, ARestartOfAnotherRefineStartsTheFinerGrid) {
     EXPECT_NEAR(f.flow->forces.CL, plain.flow->forces.CL, 1e-7);
     EXPECT_NEAR(f.flow->forces.CD, plain.flow->forces.CD, 1e-7);
 
-    info.samples.clear();
-    io::writeRestart(dir + "/bare.restart", c.flow->mesh, c.flow->q, info);
-    fromCoarse.start->restartFile = dir + "/bare.restart";
-    try {
-        (void)fe.evaluate(fe.caseValues(), fromCoarse);
-        ADD_FAILURE() << "a restart of another grid without its parameters was accepted";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("nodes in the file"), std::string::npos) << e.what();
-    }
+    // Refused: a file without the parameters, and one of another analytic grid (here a farfield
+    // at 10 radii instead of 20) whose blocks' corners are elsewhere.
+    auto refused = [&](const std::string& path, const std::string& why) {
+        fromCoarse.start->restartFile = path;
+        try {
+            (void)fe.evaluate(fe.caseValues(), fromCoarse);
+            ADD_FAILURE() << "a restart of another grid was accepted: " << path;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("nodes in the file"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+        }
+    };
+    io::RestartInfo bare = info;
+    bare.samples.clear();
+    bare.corners.clear();
+    io::writeRestart(dir + "/bare.restart", c.flow->mesh, c.flow->q, bare);
+    refused(dir + "/bare.restart", "does not record its grid parameters");
+    io::CaseFile otherCase = coarseCase;
+    otherCase.mesh.extrusion.farfieldRadius = 10;
+    study::CaseEvaluator oe(otherCase, set);
+    study::EvaluationRequest meshOnly;
+    meshOnly.flow = false;
+    const study::Evaluation o = oe.evaluate(oe.caseValues(), meshOnly);
+    ASSERT_TRUE(o.ok()) << o.message;
+    const flow::FlowMesh ofm = flow::makeFlowMesh(o.mesh->control, o.mesh->grids);
+    io::RestartInfo other = info;
+    other.samples = study::gridParameters(o.mesh->control);
+    other.corners = io::blockCorners(ofm, flow::gatherCoordinates(ofm, o.mesh->grids));
+    io::writeRestart(dir + "/other.restart", ofm, flow::freeStreamState(ofm, info.freeStream), other);
+    refused(dir + "/other.restart", "not another sampling of this grid");
 }
 
 TEST(CaseEvaluator, AWarmStartFromANeighbouringDesignSavesIterations) {
