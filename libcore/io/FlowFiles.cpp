@@ -18,7 +18,7 @@ namespace aero::io {
 namespace {
 
 constexpr char kMagic[16] = {'A', 'E', 'R', 'O', 'F', 'O', 'R', 'M', '-', 'R', 'E', 'S', 'T', 'A', 'R', 'T'};
-constexpr std::uint32_t kRestartVersion = 2;  // 2: the blocks' grid parameters (optional)
+constexpr std::uint32_t kRestartVersion = 2;  // 2: the blocks' grid parameters and corners (optional)
 
 // FNV-1a, 64 bit: detects truncation and bit rot, not tampering.
 struct Checksum {

@@ -25,8 +25,8 @@ struct RestartInfo {
     /// of that grid (a finer mesh.refine). Empty when not recorded (files of version 1).
     std::vector<std::array<std::vector<double>, 3>> samples;
     /// Per block, the coordinates of its 8 corner nodes (i fastest, then j, k; blockCorners),
-    /// recorded with `samples`: samplings of the same analytic grid share them, another level,
-    /// farfield or shape does not.
+    /// recorded with `samples`: samplings of the same analytic grid share them (any mesh.refine
+    /// or grid_wall_spacing), another level, farfield or shape does not.
     std::vector<std::array<double, 24>> corners;
 };
 

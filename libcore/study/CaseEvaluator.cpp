@@ -103,7 +103,7 @@ std::string sameCorners(const std::vector<std::array<double, 24>>& file, const s
             }
             if (gap > 1e-8 * size) {
                 return format("; its block %zu's corner %d is at (%.6g, %.6g, %.6g), this grid's at (%.6g, %.6g, %.6g): it is "
-                              "not another sampling of this grid (another mesh level, farfield radius, wall spacing or shape)",
+                              "not another sampling of this grid (another mesh level, farfield radius or shape)",
                               b, c, file[b][3 * c], file[b][3 * c + 1], file[b][3 * c + 2], here[b][3 * c], here[b][3 * c + 1],
                               here[b][3 * c + 2]);
             }

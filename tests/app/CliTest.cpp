@@ -510,6 +510,15 @@ TEST(Cli, FlowStopsKeepsItsStateAndResumesFromTheRestart) {
     EXPECT_EQ(c.code, 1);
     EXPECT_NE(c.err.find("state.restart"), std::string::npos) << c.err;
     EXPECT_NE(c.err.find("nodes in the file"), std::string::npos) << c.err;
+    EXPECT_NE(c.err.find("not another sampling of this grid"), std::string::npos) << c.err;
+    // The same grid at another mesh.refine (here coarser, 2,500 nodes): interpolated as the start.
+    const std::string coarser = writeCase("flow_coarser.json", R"("mesh": {"level": "coarse", "refine": 0.25, "grid_wall_spacing": 0.05, "farfield_radius": 5}, "flow": {"mach": 0.5, "max_iterations": 2})");
+    const Result d = run("flow '" + coarser + "' --restart '" + outputPath("cli_flow/state.restart") + "' --json");
+    ASSERT_FALSE(d.out.empty()) << d.err;
+    const auto jd = nlohmann::json::parse(d.out);
+    EXPECT_EQ(jd["restart_interpolated_from_nodes"], 14580);
+    EXPECT_LT(jd["grid_nodes"].get<long>(), 14580);
+    EXPECT_NE(d.err.find("interpolated onto its"), std::string::npos) << d.err;
     EXPECT_EQ(run("flow").code, 2);
     EXPECT_EQ(run("flow '" + partial + "' --restart").code, 2);
     EXPECT_EQ(a.err.find("spacing jumps"), std::string::npos) << a.err;  // this grid is fine (1.4)
