@@ -73,7 +73,7 @@ struct NewtonOptions {
                                        // (whatever iluPrecision and gmresSingleBasis say): the
                                        // paper grid in 3.59 GB instead of 6.32 GB, the same
                                        // iterations; the 75k half-sphere in 273 MB instead of 479
-                                       // and 0.88x the time (300,000 until the thirty-third
+                                       // and 0.93x the time (300,000 until the thirty-third
                                        // session; the 14k grids of the robustness suite stay
                                        // below it) (0: always; docs/performance.md)
     ProductMode products = ProductMode::Difference;  // the exact phase's Jacobian-vector
