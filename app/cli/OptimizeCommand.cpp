@@ -16,6 +16,7 @@
 #include "common/Format.h"
 #include "common/Memory.h"
 #include "io/CaseWriter.h"
+#include "io/FlowFiles.h"
 #include "study/CaseEvaluator.h"
 #include "study/GeometryFiles.h"
 #include "study/Optimization.h"
@@ -45,7 +46,10 @@ const char* kHelp =
     "            angle of attack, no outputs, no optimization section) and stop: aeroform-cli flow\n"
     "            OUT.json solves it again, e.g. to see why a failed step's flow did not converge\n"
     "            (flow.stall_modes) or to look at the flow of an iterate; another case's\n"
-    "            optimization.start_design starts its run from it (e.g. a coarser grid's best design)\n"
+    "            optimization.start_design starts its run from it (e.g. a coarser grid's best design).\n"
+    "            When the run kept that evaluation's flow (its newest accepted evaluations and\n"
+    "            last iterates), it is written beside OUT.json as OUT.restart: aeroform-cli flow\n"
+    "            OUT.json --restart OUT.restart starts from it, also at another mesh.refine\n"
     "  --help    this text\n"
     "Ctrl+C stops at the next flow iteration (the history is kept: --resume continues it).\n"
     "Exit 0 when the optimizer converged or reached its iteration or evaluation limit, 1 when it\n"
@@ -97,6 +101,27 @@ int writeEvaluationCase(const std::string& casePath, int evaluation, const std::
         say(format("wrote evaluation %d as '%s' (its description says what the optimizer saw); solve it with: "
                    "aeroform-cli flow %s",
                    evaluation, out.c_str(), out.c_str()));
+        // The flow the run kept for this evaluation (a warm-start state: the values alone) as a
+        // restart with its grid's layout, parameters and corners, so the optimizer's own solution
+        // starts the case again or a finer mesh.refine of it (the paper refined its optimum).
+        const std::vector<double> kept = io::readWarmState(study::warmStatePath(c.optimization.history, evaluation));
+        if (kept.empty()) return kOk;
+        study::CaseEvaluator oneEv(one, loadPatchSet(one.geometry));
+        study::EvaluationRequest meshOnly;
+        meshOnly.flow = false;
+        const study::Evaluation m = oneEv.evaluate(oneEv.caseValues(), meshOnly);
+        if (!m.ok() || !m.mesh) return kOk;
+        const flow::FlowMesh fm = flow::makeFlowMesh(m.mesh->control, m.mesh->grids);
+        if (kept.size() != static_cast<std::size_t>(flow::kVars * fm.nodeCount)) return kOk;  // another grid's
+        io::RestartInfo info;
+        info.freeStream = one.flow.freeStream;
+        info.samples = study::gridParameters(m.mesh->control);
+        info.corners = io::blockCorners(fm, flow::gatherCoordinates(fm, m.mesh->grids));
+        const std::string restart = std::filesystem::path(out).replace_extension(".restart").string();
+        io::writeRestart(restart, fm, kept, info);
+        say(format("wrote its flow, kept by the run, as '%s': aeroform-cli flow %s --restart %s starts from it (also at "
+                   "another mesh.refine)",
+                   restart.c_str(), out.c_str(), restart.c_str()));
         return kOk;
     });
 }

@@ -429,17 +429,23 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         q = interpolateState(file.info.samples, file.q, gridParameters(m.control), f->mesh);
         no.cfl0 = std::max(no.cfl0, 10.0 * case_.flow.newton.cfl0);
         f->interpolatedRestart = static_cast<long>(file.q.size() / flow::kVars);
-        say(format("restart from %s: %ld nodes of another sampling of this grid (%d iterations done, residual %.3e), "
-                   "interpolated onto its %ld nodes as the initial state",
-                   request.start->restartFile.c_str(), f->interpolatedRestart, file.info.iterations, file.info.residual,
+        say(format("restart from %s: %ld nodes of another sampling of this grid%s, interpolated onto its %ld nodes as the "
+                   "initial state",
+                   request.start->restartFile.c_str(), f->interpolatedRestart,
+                   file.info.iterations > 0 ? format(" (%d iterations done, residual %.3e)", file.info.iterations,
+                                                     file.info.residual).c_str()
+                                            : "",
                    f->mesh.nodeCount));
     } else if (!file.q.empty()) {
         io::checkRestartLayout(request.start->restartFile, file, f->mesh);
         const io::RestartInfo& previous = file.info;
         q = std::move(file.q);
         const flow::FreeStream& fs = previous.freeStream;
-        say(format("restart from %s: %d iterations done, residual %.3e (Mach %g, alpha %g)",
-                   request.start->restartFile.c_str(), previous.iterations, previous.residual, fs.mach, fs.alphaDeg));
+        say(format("restart from %s:%s (Mach %g, alpha %g)", request.start->restartFile.c_str(),
+                   previous.iterations > 0 ? format(" %d iterations done, residual %.3e", previous.iterations,
+                                                    previous.residual).c_str()
+                                           : " a flow state",
+                   fs.mach, fs.alphaDeg));
         const bool same = fs.mach == ro.freeStream.mach && fs.alphaDeg == ro.freeStream.alphaDeg && fs.gamma == ro.freeStream.gamma;
         if (same && previous.initialResidual > 0) {
             // Continue the same run: orders, tolerances and the CFL law refer to its first residual.
@@ -449,7 +455,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             f->previousIterations = previous.iterations;
             f->restartContinued = true;
         } else {
-            say("the restart's free stream differs from the case's: it is only the initial guess");
+            say(same ? "the restart records no run to continue (a state an optimization kept): it is only the initial guess"
+                     : "the restart's free stream differs from the case's: it is only the initial guess");
         }
     } else if (request.start && !request.start->state.empty()) {
         if (static_cast<long>(request.start->state.size()) != n) {

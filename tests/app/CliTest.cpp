@@ -977,4 +977,36 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
     EXPECT_NE(r.err.find("is the case itself"), std::string::npos) << r.err;
     EXPECT_EQ(run("optimize '" + whole + "' --design x '" + design + "'").code, 2);
     EXPECT_EQ(run("optimize '" + whole + "' --design 2").code, 2);
+
+    // An evaluation whose flow the run kept: written as a restart beside the case, from which
+    // its flow is back at once on its grid and starts a finer mesh.refine (4,320 -> 6,860 nodes).
+    int keptEvaluation = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(tmp("opt_whole/history.states"))) {
+        keptEvaluation = std::max(keptEvaluation, std::atoi(entry.path().stem().string().c_str()));
+    }
+    ASSERT_GT(keptEvaluation, 0);
+    const std::string keptCase = tmp("opt_whole_kept.json"), keptRestart = tmp("opt_whole_kept.restart");
+    std::filesystem::remove(keptRestart);
+    r = run("optimize '" + whole + "' --design " + std::to_string(keptEvaluation) + " '" + keptCase + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_TRUE(std::filesystem::exists(keptRestart)) << r.err;
+    EXPECT_NE(r.err.find("--restart"), std::string::npos) << r.err;
+    r = run("flow '" + keptCase + "' --restart '" + keptRestart + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json again = nlohmann::json::parse(r.out);
+    EXPECT_LE(again["newton_iterations"].get<int>(), 2) << r.err;  // converged where the run left it
+    EXPECT_NE(r.err.find("it is only the initial guess"), std::string::npos) << r.err;
+    for (const nlohmann::json& rec : wholeRecords) {
+        if (rec["kind"] == "values" && rec["evaluation"] == keptEvaluation) {
+            EXPECT_NEAR(again["CL"].get<double>(), rec["CL"].get<double>(), 1e-8);
+            EXPECT_NEAR(again["CD"].get<double>(), rec["CD"].get<double>(), 1e-8);
+        }
+    }
+    nlohmann::json finer = nlohmann::json::parse(slurp(keptCase));
+    finer["mesh"]["refine"] = 0.4;
+    const std::string finerCase = tmp("opt_whole_kept_finer.json");
+    std::ofstream(finerCase) << finer.dump(1);
+    r = run("flow '" + finerCase + "' --restart '" + keptRestart + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["restart_interpolated_from_nodes"], again["grid_nodes"]);
 }
