@@ -208,10 +208,7 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
             info.initialResidual = rep.initialResidual;
             info.cflBase = rep.cflBase;
             info.lumping = rep.lumping;
-            if (e.mesh) {  // (another mesh.refine of this grid can start from it)
-                info.samples = study::gridParameters(e.mesh->control);
-                info.corners = io::blockCorners(fm, fr.x);
-            }
+            if (e.mesh) study::recordGrid(info, e.mesh->control, fm, fr.x);  // (another mesh.refine can start from it)
             io::writeRestart(restartTo, fm, fr.q, info);
             outputs["restart"] = restartTo;
         }

@@ -92,7 +92,8 @@ std::vector<std::string> writeConvergencePlots(const study::OptimizationSummary&
 int writeEvaluationCase(const std::string& casePath, int evaluation, const std::string& out) {
     return guarded("optimize", [&] {
         const io::CaseFile c = io::readCase(casePath);
-        const study::CaseEvaluator ev(c, loadPatchSet(c.geometry));
+        const geometry::PatchSet patches = loadPatchSet(c.geometry);
+        const study::CaseEvaluator ev(c, patches);
         const io::CaseFile one = study::evaluationCase(ev, evaluation);
         if (std::filesystem::exists(out) && std::filesystem::equivalent(out, casePath)) {
             throw InputError("'" + out + "' is the case itself: not overwritten");
@@ -106,7 +107,7 @@ int writeEvaluationCase(const std::string& casePath, int evaluation, const std::
         // starts the case again or a finer mesh.refine of it (the paper refined its optimum).
         const std::vector<double> kept = io::readWarmState(study::warmStatePath(c.optimization.history, evaluation));
         if (kept.empty()) return kOk;
-        study::CaseEvaluator oneEv(one, loadPatchSet(one.geometry));
+        study::CaseEvaluator oneEv(one, patches);
         study::EvaluationRequest meshOnly;
         meshOnly.flow = false;
         const study::Evaluation m = oneEv.evaluate(oneEv.caseValues(), meshOnly);
@@ -115,8 +116,7 @@ int writeEvaluationCase(const std::string& casePath, int evaluation, const std::
         if (kept.size() != static_cast<std::size_t>(flow::kVars * fm.nodeCount)) return kOk;  // another grid's
         io::RestartInfo info;
         info.freeStream = one.flow.freeStream;
-        info.samples = study::gridParameters(m.mesh->control);
-        info.corners = io::blockCorners(fm, flow::gatherCoordinates(fm, m.mesh->grids));
+        study::recordGrid(info, m.mesh->control, fm, flow::gatherCoordinates(fm, m.mesh->grids));
         const std::string restart = std::filesystem::path(out).replace_extension(".restart").string();
         io::writeRestart(restart, fm, kept, info);
         say(format("wrote its flow, kept by the run, as '%s': aeroform-cli flow %s --restart %s starts from it (also at "

@@ -409,11 +409,12 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     if (request.start && !request.start->restartFile.empty()) file = io::readRestartContents(request.start->restartFile);
     bool sameLayout = file.dims.size() == f->mesh.blocks.size();
     for (std::size_t b = 0; sameLayout && b < file.dims.size(); ++b) sameLayout = file.dims[b] == f->mesh.blocks[b].dims;
-    std::string otherGrid;  // why a restart of other dims is not another sampling of this grid
     if (!file.q.empty() && !sameLayout && file.dims.size() == f->mesh.blocks.size()) {
-        otherGrid = file.info.samples.empty() ? "; the file does not record its grid parameters (version 1), so it cannot be "
-                                                "interpolated onto this grid"
-                                              : sameCorners(file.info.corners, io::blockCorners(f->mesh, f->x));
+        // Refused, with the layout's message and why, unless it samples this grid's blocks.
+        const std::string otherGrid = file.info.samples.empty()
+                                          ? "; the file does not record its grid parameters (version 1), so it cannot be "
+                                            "interpolated onto this grid"
+                                          : sameCorners(file.info.corners, io::blockCorners(f->mesh, f->x));
         if (!otherGrid.empty()) {
             try {
                 io::checkRestartLayout(request.start->restartFile, file, f->mesh);
@@ -421,8 +422,6 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                 throw InputError(err.what() + otherGrid);
             }
         }
-    }
-    if (!file.q.empty() && !sameLayout && file.dims.size() == f->mesh.blocks.size()) {
         // Another sampling of this analytic grid (a finer or coarser mesh.refine of the same
         // blocks): its state interpolated in the grid parameters, as grid sequencing prolongs, is
         // a start, not the run continued (the orders refer to this grid's free stream).
@@ -542,7 +541,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     flow::FlowCheckpoint checkpoint;
     auto lastCheckpoint = std::chrono::steady_clock::now();
     bool checkpointBroken = false;
+    io::RestartInfo grid;  // the grid's parameters and corners, which every checkpoint records
     if (!request.checkpointFile.empty()) {
+        recordGrid(grid, m.control, f->mesh, f->x);
         checkpoint = [&](const std::vector<double>& state, const flow::FlowReport& sofar) {
             const auto now = std::chrono::steady_clock::now();
             if (checkpointBroken || std::chrono::duration<double>(now - lastCheckpoint).count() < request.checkpointSeconds) return;
@@ -553,8 +554,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             info.initialResidual = sofar.initialResidual;
             info.cflBase = sofar.cflBase;
             info.lumping = sofar.lumping;
-            info.samples = gridParameters(m.control);
-            info.corners = io::blockCorners(f->mesh, f->x);
+            info.samples = grid.samples;
+            info.corners = grid.corners;
             try {
                 io::writeRestart(request.checkpointFile, f->mesh, state, info);
                 ++f->checkpoints;
@@ -904,6 +905,11 @@ std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow:
         throw Error("prolongState: the two meshes have different blocks");
     }
     return interpolateState(gridParameters(coarse), q, gridParameters(fine), fineFlow);
+}
+
+void recordGrid(io::RestartInfo& info, const mesh::MultiBlockMesh& m, const flow::FlowMesh& fm, const std::vector<double>& x) {
+    info.samples = gridParameters(m);
+    info.corners = io::blockCorners(fm, x);
 }
 
 GridParameters gridParameters(const mesh::MultiBlockMesh& m) {

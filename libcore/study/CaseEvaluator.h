@@ -29,6 +29,10 @@
 #include "mesh/Elasticity.h"
 #include "mesh/Quality.h"
 
+namespace aero::io {
+struct RestartInfo;
+}  // namespace aero::io
+
 namespace aero::study {
 
 /// Progress lines for a human ("embedded 521 of 521 ..."); may be empty.
@@ -327,6 +331,10 @@ std::vector<double> prolongState(const mesh::MultiBlockMesh& coarse, const flow:
 /// file records them: io::RestartInfo::samples).
 using GridParameters = std::vector<std::array<std::vector<double>, 3>>;
 GridParameters gridParameters(const mesh::MultiBlockMesh& m);
+
+/// Records in `info` what lets a restart start another sampling of the grid: m's grid parameters
+/// and fm's block corners at the node coordinates x (3 per node).
+void recordGrid(io::RestartInfo& info, const mesh::MultiBlockMesh& m, const flow::FlowMesh& fm, const std::vector<double>& x);
 
 /// The state q given at the nodes of blocks sampled at `from` (blocks one after the other, i
 /// fastest) interpolated trilinearly in parameter space at the nodes of `toFlow`, sampled at
