@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <new>
 
 #include "common/Error.h"
 #include "flow/Metrics.h"
@@ -127,6 +128,13 @@ StepSystem::StepSystem(const FlowMesh& fm, const std::vector<double>& metrics, c
     // A grid where memory is the limit stores the factors in bfloat16 and the Krylov basis in float
     // (the 903k paper grid: 3.59 GB against 6.32 GB, the same iterations; docs/performance.md).
     ilu_.setPrecision(lowMemory_ ? IluPrecision::Bfloat16 : n.iluPrecision);
+    if (lowMemory_) {
+        // One block holds the approximate Jacobian while it is assembled and factored, and an
+        // exact step's Krylov basis while GMRES runs (GmresWorkspace::lend): room for the larger.
+        const std::size_t basis = GmresWorkspace::singleBytes(kVars * fm.nodeCount, std::max(1, n.gmresRestart) + 1);
+        sharedDoubles_ = std::max(P_.values.size(), (basis + sizeof(double) - 1) / sizeof(double));
+        P_.values.reserve(sharedDoubles_);
+    }
     if (n.preconditionerParts > 1) {
         ilu_.setOrdering(partitionOrdering(P_, blockGroups(fm, n.preconditionerParts), n.preconditionerParts));
     }
@@ -139,7 +147,10 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
         for (std::size_t i = 0; i < d_.size(); ++i) d_[i] /= (*local_)[i];
     }
     // The last step's Krylov basis is not needed while the matrix is assembled and factored.
-    if (lowMemory_) krylov_.release();
+    if (lowMemory_) {
+        reclaimMatrix();
+        krylov_.release();
+    }
     q_ = q;
     r_ = r;
     const double lumping = approx_.dissipation.lumping;
@@ -152,6 +163,12 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
 }
 
 void StepSystem::assembleMatrix() {
+    if (lowMemory_ && P_.values.capacity() < sharedDoubles_) {
+        // After an approximate step stored P_ in float: the shared block again, the float
+        // values freed first (as setZero() would).
+        std::vector<float>().swap(P_.singleValues);
+        P_.values.reserve(sharedDoubles_);
+    }
     ResidualOptions o = approx_;
     o.dissipation.lumping = matrixLumping_;
     assembleApproximateJacobian(fm_, metrics_, q_, o, P_);
@@ -162,11 +179,20 @@ void StepSystem::useApproximate() {
     exact_ = false;
     // The same state, CFL and lumping as the last assemble(): the same matrix, whose factors the
     // ILU still holds. The failed step's basis first makes room for it.
-    if (!P_.hasValues() && !P_.single()) {
+    if (matrixLent_ || (!P_.hasValues() && !P_.single())) {
+        reclaimMatrix();
         krylov_.release();
         assembleMatrix();
         P_.storeSingle();
     }
+}
+
+void StepSystem::reclaimMatrix() {
+    if (!matrixLent_) return;
+    krylov_.release();
+    // The block's doubles again (the basis's floats ended them); assembly overwrites them.
+    ::new (static_cast<void*>(P_.values.data())) double[P_.values.capacity()];
+    matrixLent_ = false;
 }
 
 void StepSystem::setResidualOptions(const ResidualOptions& o) {
@@ -187,11 +213,12 @@ bool StepSystem::factor(std::string& why) {
         return false;
     }
     factored_ = true;
-    // An exact step's products do not use the approximate Jacobian: free it for the basis. An
-    // approximate step's use it rounded to float.
+    // An exact step's products do not use the approximate Jacobian: its block holds the basis
+    // until the next assembly. An approximate step's use it rounded to float.
     if (lowMemory_) {
         if (exact_) {
-            P_.releaseValues();
+            krylov_.lend(P_.values.data(), P_.values.capacity() * sizeof(double));
+            matrixLent_ = true;
         } else {
             P_.storeSingle();
         }

@@ -272,10 +272,13 @@ private:
     bool factored_ = false;       // ilu_ holds the factors of the last assemble()
     bool productsReady_ = false;  // jp_ holds the state of the last assemble()
     bool lowMemory_ = false;      // NewtonOptions::lowMemoryNodes reached
+    bool matrixLent_ = false;     // P_'s values hold the Krylov basis (a low-memory exact step)
+    std::size_t sharedDoubles_ = 0;  // low memory: P_'s capacity, room for either P_ or the basis
     double optionLumping_ = 0;    // the residual options' lumping factor (before any raise)
     double matrixLumping_ = 0;    // the lumping factor P_ was last assembled with
 
     void assembleMatrix();        // P_ = the approximate Jacobian at q_ + diag(d_)
+    void reclaimMatrix();         // P_'s values back from the Krylov basis (contents undefined)
 };
 
 /// Solves R(q) = 0 on the mesh. q: 5 per node; if empty on entry it starts from the free stream

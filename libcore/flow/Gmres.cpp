@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <new>
 #include <numeric>
 #include <type_traits>
 
@@ -232,7 +233,10 @@ Eigen::MatrixXd harmonicRitzVectors(const Eigen::MatrixXd& Hbar, int m, int want
 
 void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     if (n != n_) {
+        const auto storage = lent_;  // (still lent for the new size)
+        const auto bytes = lentBytes_;
         release();
+        lend(storage, bytes);
         n_ = n;
         stride_ = (static_cast<std::size_t>(n) + 15) / 16 * 16;
     }
@@ -244,14 +248,35 @@ void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     }
     if (singleVectors > singleVectors_) {
         single_.reset();
-        single_.reset(new float[stride_ * static_cast<std::size_t>(singleVectors)]);
+        const std::size_t count = stride_ * static_cast<std::size_t>(singleVectors);
+        if (lent_ && count * sizeof(float) <= lentBytes_) {
+            singleData_ = ::new (lent_) float[count];  // (no initialization, as below)
+        } else {
+            single_.reset(new float[count]);
+            singleData_ = single_.get();
+        }
         singleVectors_ = singleVectors;
     }
+}
+
+void GmresWorkspace::lend(void* storage, std::size_t bytes) {
+    single_.reset();
+    singleData_ = nullptr;
+    singleVectors_ = 0;
+    lent_ = storage;
+    lentBytes_ = storage ? bytes : 0;
+}
+
+std::size_t GmresWorkspace::singleBytes(long n, int singleVectors) {
+    return (static_cast<std::size_t>(n) + 15) / 16 * 16 * static_cast<std::size_t>(singleVectors) * sizeof(float);
 }
 
 void GmresWorkspace::release() {
     basis_.reset();
     single_.reset();
+    singleData_ = nullptr;
+    lent_ = nullptr;
+    lentBytes_ = 0;
     n_ = 0;
     stride_ = 0;
     vectors_ = singleVectors_ = 0;

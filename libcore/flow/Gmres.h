@@ -55,12 +55,23 @@ public:
     /// or changing n allocates again: the vectors' contents are not kept.
     void reserve(long n, int vectors, int singleVectors = 0);
     double* vector(int i) { return basis_.get() + stride_ * static_cast<std::size_t>(i); }
-    float* singleVector(int i) { return single_.get() + stride_ * static_cast<std::size_t>(i); }
+    float* singleVector(int i) { return singleData_ + stride_ * static_cast<std::size_t>(i); }
     long size() const { return n_; }
     int vectors() const { return vectors_; }
     int singleVectors() const { return singleVectors_; }
-    /// Frees every vector (the next reserve() allocates them again).
+    /// Frees every vector (the next reserve() allocates them again) and forgets lent storage.
     void release();
+    /// Storage of `bytes` that the float vectors use, instead of an allocation of their own,
+    /// whenever it is large enough, until release(); the caller keeps it alive and does not use it
+    /// meanwhile. The low-memory flow steps lend the approximate Jacobian's values, which an exact
+    /// step does not need while GMRES runs (StepSystem): the matrix and the basis then take turns
+    /// in one block whatever the heap does (freed and allocated again, they took turns only while
+    /// malloc put each in the other's hole, and a small allocation in the hole added 100 MB to
+    /// the 75k half-sphere's peak).
+    void lend(void* storage, std::size_t bytes);
+    bool usesLent() const { return singleData_ != nullptr && singleData_ == lent_; }
+    /// The bytes reserve(n, any, singleVectors) needs for the float vectors.
+    static std::size_t singleBytes(long n, int singleVectors);
 
 private:
     long n_ = 0;
@@ -68,6 +79,9 @@ private:
     int vectors_ = 0, singleVectors_ = 0;
     std::unique_ptr<double[]> basis_;  // vectors_ * stride_ values, uninitialized
     std::unique_ptr<float[]> single_;  // singleVectors_ * stride_ values, uninitialized
+    float* singleData_ = nullptr;      // single_'s values or the lent storage's
+    void* lent_ = nullptr;
+    std::size_t lentBytes_ = 0;
 };
 
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner

@@ -420,6 +420,46 @@ TEST(Gmres, SingleBasisReachesTheSameAccuracy) {
     }
 }
 
+TEST(Gmres, AFloatBasisUsesLentStorageWhenItIsLargeEnough) {
+    // The low-memory flow steps lend the approximate Jacobian's block to the basis
+    // (StepSystem): the solve must run in that storage, bitwise as in its own allocation, and
+    // fall back to its own when the storage is too small; release() forgets the loan.
+    const BlockSparseMatrix A = gridMatrix(30, 20, 7);
+    const long n = kBlock * A.rows;
+    const std::vector<double> b = randomVector(n, 8);
+    BlockIlu ilu;
+    ASSERT_TRUE(ilu.factor(A, 1));
+    const LinearMap Am = [&](const double* in, double* out) { A.mult(in, out); };
+    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    const GmresOptions o{20, 400, 1e-10, 0.0, 0, true};
+    const std::size_t bytes = GmresWorkspace::singleBytes(n, 21);
+    EXPECT_EQ(bytes, static_cast<std::size_t>((n + 15) / 16 * 16) * 21 * sizeof(float));
+
+    GmresWorkspace own;
+    std::vector<double> x0(n, 0.0);
+    const GmresReport r0 = gmres(n, Am, M, b.data(), x0.data(), o, &own);
+    EXPECT_FALSE(own.usesLent());
+
+    std::vector<double> storage((bytes + 7) / 8);  // as the matrix's values lend it
+    GmresWorkspace lent;
+    lent.lend(storage.data(), storage.size() * sizeof(double));
+    std::vector<double> x1(n, 0.0);
+    const GmresReport r1 = gmres(n, Am, M, b.data(), x1.data(), o, &lent);
+    EXPECT_TRUE(lent.usesLent());
+    EXPECT_EQ(static_cast<void*>(lent.singleVector(0)), static_cast<void*>(storage.data()));
+    EXPECT_EQ(r1.iterations, r0.iterations);
+    EXPECT_EQ(x1, x0);
+    lent.release();
+    EXPECT_FALSE(lent.usesLent());
+
+    GmresWorkspace small;
+    small.lend(storage.data(), bytes - 1);
+    std::vector<double> x2(n, 0.0);
+    gmres(n, Am, M, b.data(), x2.data(), o, &small);
+    EXPECT_FALSE(small.usesLent());
+    EXPECT_EQ(x2, x0);
+}
+
 // A cyclic shift makes no progress in fewer than n iterations: with `hopeless` GMRES stops after
 // its first restart cycle instead of spending the whole budget.
 TEST(Gmres, GivesUpWhenItCannotReachTheHopelessThreshold) {
