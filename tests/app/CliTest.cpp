@@ -865,7 +865,10 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
     ASSERT_EQ(r.code, 0) << r.err;
     const nlohmann::json a = nlohmann::json::parse(r.out);
     EXPECT_EQ(a["status"], "iteration limit");
-    EXPECT_GT(a["J"].get<double>(), 0.05);  // from 0.0016 at the sphere
+    // From 0.0016 at the sphere. The best feasible design: the sample's bound on the wall Mach
+    // number (1) makes the third and fourth evaluations (J 0.34 and 1.02 at wall Mach 1.07 and
+    // 1.14) infeasible, so the best is the second's 0.017.
+    EXPECT_GT(a["J"].get<double>(), 0.01);
     EXPECT_GE(a["volume"].get<double>(), a["start_volume"].get<double>() * (1 - 1e-6));
     EXPECT_TRUE(std::filesystem::exists(tmp("opt_whole/history_best.igs")));
     EXPECT_TRUE(std::filesystem::exists(tmp("opt_whole/iterations/iteration_003.igs")));
