@@ -205,6 +205,10 @@ const std::vector<Option<FlowCase>>& flowOptions() {
         o.push_back(real<FlowCase>("cfl_growth", "", 1, true, 100, false,
                                    [](FlowCase& c) -> double& { return c.newton.cflGrowth; },
                                    "growth of the CFL base per full step"));
+        o.push_back(real<FlowCase>("cfl_max", "", 0, false, 1e12, true,
+                                   [](FlowCase& c) -> double& { return c.newton.cflMax; },
+                                   "the CFL at most (pseudo-time steps stay this short: a ceiling where the exact Newton "
+                                   "systems of larger CFLs defeat GMRES; 1e12: Newton)"));
         o.push_back(real<FlowCase>("linear_tolerance", "", 0, false, 1, false,
                                    [](FlowCase& c) -> double& { return c.newton.linearTolerance; },
                                    "GMRES relative tolerance per nonlinear iteration"));
