@@ -302,13 +302,24 @@ TEST(BlockIlu, OrderedFactorizationNamesTheOriginalRowOfASingularPivot) {
     EXPECT_NE(ilu.message().find("row " + std::to_string(bad)), std::string::npos) << ilu.message();
 }
 
-TEST(Gmres, PreconditionedByIluSolvesAGridSystem) {
+// The GMRES tests' system: a 30 x 20 grid of 5 x 5 blocks, a random right-hand side, and its
+// ILU(1) as the preconditioner.
+struct GridSystem {
     const BlockSparseMatrix A = gridMatrix(30, 20, 7);
-    const std::vector<double> b = randomVector(kBlock * A.rows, 8);
+    const long n = kBlock * A.rows;
+    const std::vector<double> b = randomVector(n, 8);
     BlockIlu ilu;
-    ASSERT_TRUE(ilu.factor(A, 1));
-    const LinearMap Am = [&](const double* in, double* out) { A.mult(in, out); };
-    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    const LinearMap product = [this](const double* in, double* out) { A.mult(in, out); };
+    const LinearMap preconditioner = [this](const double* in, double* out) { ilu.solve(in, out); };
+    GridSystem() { EXPECT_TRUE(ilu.factor(A, 1)); }
+    GridSystem(const GridSystem&) = delete;  // (the maps point at this one)
+};
+
+TEST(Gmres, PreconditionedByIluSolvesAGridSystem) {
+    const GridSystem g;
+    const BlockSparseMatrix& A = g.A;
+    const std::vector<double>& b = g.b;
+    const LinearMap &Am = g.product, &M = g.preconditioner;
     std::vector<double> x(b.size(), 0.0);
     const GmresReport r = gmres(kBlock * A.rows, Am, M, b.data(), x.data(), {30, 200, 1e-12});
     EXPECT_LE(r.relativeResidual, 1e-12);
@@ -326,18 +337,17 @@ TEST(Gmres, PreconditionedByIluSolvesAGridSystem) {
 // A 0 (on the flow's exact systems a product is a complex residual evaluation). A restart and a
 // nonzero initial guess still use the true residual b - A x.
 TEST(Gmres, AZeroInitialGuessSpendsNoProductOnItsResidual) {
-    const BlockSparseMatrix A = gridMatrix(30, 20, 7);
-    const long n = kBlock * A.rows;
-    const std::vector<double> b = randomVector(n, 8);
-    BlockIlu ilu;
-    ASSERT_TRUE(ilu.factor(A, 1));
+    const GridSystem g;
+    const BlockSparseMatrix& A = g.A;
+    const long n = g.n;
+    const std::vector<double>& b = g.b;
     int products = 0, zeroInputs = 0;
     const LinearMap Am = [&](const double* in, double* out) {
         ++products;
         zeroInputs += std::all_of(in, in + n, [](double v) { return v == 0.0; });
         A.mult(in, out);
     };
-    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    const LinearMap& M = g.preconditioner;
     std::vector<double> x(n, 0.0);
     const GmresReport r = gmres(n, Am, M, b.data(), x.data(), {2, 400, 1e-12});
     EXPECT_TRUE(r.converged);
@@ -362,12 +372,10 @@ TEST(Gmres, AZeroInitialGuessSpendsNoProductOnItsResidual) {
 // products) and Morgan's bidiagonal matrix with small eigenvalues (hundreds of products over many
 // restarts).
 TEST(Gmres, SingleBasisReachesTheSameAccuracy) {
-    const BlockSparseMatrix A = gridMatrix(30, 20, 7);
-    const std::vector<double> b = randomVector(kBlock * A.rows, 8);
-    BlockIlu ilu;
-    ASSERT_TRUE(ilu.factor(A, 1));
-    const LinearMap Am = [&](const double* in, double* out) { A.mult(in, out); };
-    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    const GridSystem g;
+    const BlockSparseMatrix& A = g.A;
+    const std::vector<double>& b = g.b;
+    const LinearMap &Am = g.product, &M = g.preconditioner;
     const long n = 1000;
     std::vector<double> diag(n);
     for (long i = 0; i < n; ++i) diag[i] = i < 5 ? 0.1 * (i + 1) : static_cast<double>(i - 4);
@@ -424,13 +432,10 @@ TEST(Gmres, AFloatBasisUsesLentStorageWhenItIsLargeEnough) {
     // The low-memory flow steps lend the approximate Jacobian's block to the basis
     // (StepSystem): the solve must run in that storage, bitwise as in its own allocation, and
     // fall back to its own when the storage is too small; release() forgets the loan.
-    const BlockSparseMatrix A = gridMatrix(30, 20, 7);
-    const long n = kBlock * A.rows;
-    const std::vector<double> b = randomVector(n, 8);
-    BlockIlu ilu;
-    ASSERT_TRUE(ilu.factor(A, 1));
-    const LinearMap Am = [&](const double* in, double* out) { A.mult(in, out); };
-    const LinearMap M = [&](const double* in, double* out) { ilu.solve(in, out); };
+    const GridSystem g;
+    const long n = g.n;
+    const std::vector<double>& b = g.b;
+    const LinearMap &Am = g.product, &M = g.preconditioner;
     const GmresOptions o{20, 400, 1e-10, 0.0, 0, true};
     const std::size_t bytes = GmresWorkspace::singleBytes(n, 21);
     EXPECT_EQ(bytes, static_cast<std::size_t>((n + 15) / 16 * 16) * 21 * sizeof(float));
