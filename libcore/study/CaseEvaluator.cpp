@@ -805,7 +805,7 @@ int warmStartFinish(const flow::FlowReport& r, double relativeTolerance) {
     const double before = r.history[h - 1 - kStillFallingWindow].relativeResidual, now = r.history[h - 1].relativeResidual;
     if (!(now > 0 && now < before)) return 0;
     const double needed = std::log(now / relativeTolerance) / (std::log(before / now) / kStillFallingWindow);
-    return needed <= kStillFallingWindow ? kStillFallingWindow : 0;
+    return needed <= kWarmFinishMost ? static_cast<int>(std::ceil(needed)) + 2 : 0;
 }
 
 double stillFalling(const flow::FlowReport& r) {

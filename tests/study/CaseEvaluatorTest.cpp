@@ -334,9 +334,10 @@ TEST(CaseEvaluator, AWarmStartFromANeighbouringDesignSavesIterations) {
 }
 
 // A warm start whose budget (EvaluationRequest::warmIterations, the optimizer's
-// warm_start_iterations) runs out while Newton converges fast is not a crawl: it gets
-// kStillFallingWindow more iterations when the last ones' rate reaches the tolerance within as
-// many (the 98k evaluation 13 of the twenty-seventh session stopped at 4.4e-10 against 1e-10).
+// warm_start_iterations) runs out while Newton converges is not a crawl: it gets the iterations
+// the last ten's rate projects to the tolerance, and two, when that is at most kWarmFinishMost
+// (the 98k evaluation 13 of the twenty-seventh session stopped at 4.4e-10 against 1e-10; the
+// thirty-fourth session's evaluation 11 at 2.9e-9, coming down 8.7 times per ten iterations).
 TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
     auto report = [](flow::FlowStatus status, double last, double factorPerWindow) {
         flow::FlowReport r;
@@ -351,10 +352,13 @@ TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
         return r;
     };
     const int w = study::kStillFallingWindow;
-    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 4.4e-10, 5.7), 1e-10), w);
-    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-9, 11.0), 1e-10), w);
-    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-9, 9.0), 1e-10), 0);  // 10.5 more
-    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-6, 1.3), 1e-10), 0);  // a crawl
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 4.4e-10, 5.7), 1e-10), 11);  // 8.5 projected
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-9, 11.0), 1e-10), 12);    // 9.6
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-9, 9.0), 1e-10), 13);     // 10.5
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 2.89e-9, 8.66), 1e-10), 18);  // 15.6
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-7, 12.0), 1e-10), 30);    // 27.8
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-7, 8.0), 1e-10), 0);      // 33.2
+    EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-6, 1.3), 1e-10), 0);  // a crawl: 351
     EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::Stalled, 4.4e-10, 5.7), 1e-10), 0);
     flow::FlowReport shortRun = report(flow::FlowStatus::MaxIterations, 4.4e-10, 5.7);
     shortRun.history.resize(w);
