@@ -233,10 +233,7 @@ Eigen::MatrixXd harmonicRitzVectors(const Eigen::MatrixXd& Hbar, int m, int want
 
 void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     if (n != n_) {
-        const auto storage = lent_;  // (still lent for the new size)
-        const auto bytes = lentBytes_;
-        release();
-        lend(storage, bytes);
+        freeVectors();  // (lent storage stays lent for the new size)
         n_ = n;
         stride_ = (static_cast<std::size_t>(n) + 15) / 16 * 16;
     }
@@ -271,15 +268,19 @@ std::size_t GmresWorkspace::singleBytes(long n, int singleVectors) {
     return (static_cast<std::size_t>(n) + 15) / 16 * 16 * static_cast<std::size_t>(singleVectors) * sizeof(float);
 }
 
-void GmresWorkspace::release() {
+void GmresWorkspace::freeVectors() {
     basis_.reset();
     single_.reset();
     singleData_ = nullptr;
-    lent_ = nullptr;
-    lentBytes_ = 0;
     n_ = 0;
     stride_ = 0;
     vectors_ = singleVectors_ = 0;
+}
+
+void GmresWorkspace::release() {
+    freeVectors();
+    lent_ = nullptr;
+    lentBytes_ = 0;
 }
 
 namespace {

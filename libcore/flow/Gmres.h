@@ -82,6 +82,8 @@ private:
     float* singleData_ = nullptr;      // single_'s values or the lent storage's
     void* lent_ = nullptr;
     std::size_t lentBytes_ = 0;
+
+    void freeVectors();  // release() but for the lent storage
 };
 
 /// Solves A x = b; x holds the initial guess on entry. M (optional) applies the preconditioner
