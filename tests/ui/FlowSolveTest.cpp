@@ -242,40 +242,47 @@ void FlowSolveTest::forcesShownAreTheEvaluators() {
 
 void FlowSolveTest::guiStaysResponsiveWhileSolving() {
     const double loadBefore = loadPerCore();
+    // One solve with the window in use, measured; returns how it ended.
+    auto solveWhileUsing = [this](FrameProbe& probe) {
+        probe.start();
+        window_->actions().flowSolve->trigger();
+        if (runner().state() != State::Running) return runner().state();
+        // Use the window meanwhile, as a user would: hover over the plot, turn the view now and then.
+        QTimer user;
+        int moves = 0;
+        connect(&user, &QTimer::timeout, this, [&] {
+            window_->flow().residualPlot()->hoverAt(QPointF(60 + 7 * (moves % 40), 120));
+            if (moves % 5 == 0) window_->viewport()->requestRender();
+            ++moves;
+        });
+        user.start(40);
+        const State s = waitForEnd();
+        QTest::qWait(300);  // the result is shown and the view renders it
+        user.stop();
+        probe.stop();
+        qInfo("GUI thread while solving: %ld ticks of a 5 ms timer, mean gap %.1f ms; longest gap %.1f ms, without the "
+              "3D view's rendering %.1f ms; the GUI thread's own CPU in one gap at most %.1f ms; %d frames of the 3D "
+              "view, the longest %.1f ms; load average %s on %d cores",
+              probe.ticks(), probe.meanMs(), probe.worstMs(), probe.worstWithoutRenderingMs(), probe.worstOwnCpuMs(),
+              probe.frames(), probe.longestFrameMs(), qPrintable(loadAverage()), QThread::idealThreadCount());
+        for (const auto& g : probe.slowGaps()) qInfo("  %s", qPrintable(describe(g)));
+        return s;
+    };
     FrameProbe probe(window_->viewport());
-    probe.start();
-    window_->actions().flowSolve->trigger();
-    QCOMPARE(runner().state(), State::Running);
-    // Use the window meanwhile, as a user would: hover over the plot, turn the view now and then.
-    QTimer user;
-    int moves = 0;
-    connect(&user, &QTimer::timeout, this, [&] {
-        window_->flow().residualPlot()->hoverAt(QPointF(60 + 7 * (moves % 40), 120));
-        if (moves % 5 == 0) window_->viewport()->requestRender();
-        ++moves;
-    });
-    user.start(40);
-    const State s = waitForEnd();
-    QTest::qWait(300);  // the result is shown and the view renders it
-    user.stop();
-    probe.stop();
-    qInfo("GUI thread while solving: %ld ticks of a 5 ms timer, mean gap %.1f ms; longest gap %.1f ms, without the 3D "
-          "view's rendering %.1f ms; the GUI thread's own CPU in one gap at most %.1f ms; %d frames of the 3D view, the "
-          "longest %.1f ms; load average %s on %d cores",
-          probe.ticks(), probe.meanMs(), probe.worstMs(), probe.worstWithoutRenderingMs(), probe.worstOwnCpuMs(),
-          probe.frames(), probe.longestFrameMs(), qPrintable(loadAverage()), QThread::idealThreadCount());
-    for (const auto& g : probe.slowGaps())
-        qInfo("  gap %.1f ms: rendering %.1f ms, the GUI thread's own CPU %.1f ms", g[0], g[1], g[2]);
-    QCOMPARE(s, State::Converged);
+    QCOMPARE(solveWhileUsing(probe), State::Converged);
     // Enough gaps were measured to mean something. Not a fixed count per second: with a software
     // OpenGL (llvmpipe under Xvfb) a gap may hold a 30-100 ms frame of the 3D view, and a fast
     // machine converges this coarse case in a second or two.
     QVERIFY2(probe.ticks() >= 20, qPrintable(QStringLiteral("%1 ticks").arg(probe.ticks())));
     QVERIFY(probe.frames() > 3);
     // Our work on the GUI thread (reports, plot, panels, the result's surfaces) never takes a
-    // frame's budget, whatever the machine runs besides.
-    QVERIFY2(probe.worstOwnCpuMs() < kFrameBudgetMs,
-             qPrintable(QStringLiteral("the GUI thread worked %1 ms in one go").arg(probe.worstOwnCpuMs())));
+    // frame's budget, whatever the machine runs besides (a breach is measured again, see
+    // confirmedOwnCpuMs).
+    const double ownCpu = confirmedOwnCpuMs(probe.worstOwnCpuMs(), kFrameBudgetMs, [&] {
+        FrameProbe second(window_->viewport());
+        return solveWhileUsing(second) == State::Converged ? second.worstOwnCpuMs() : kFrameBudgetMs;
+    });
+    QVERIFY2(ownCpu < kFrameBudgetMs, qPrintable(QStringLiteral("the GUI thread worked %1 ms in one go").arg(ownCpu)));
     // The wall clock holds the budget too, unless other work oversubscribed the machine's cores
     // before the solve started (a shared CI box): then a waiting GUI thread is not scheduled for
     // tens of milliseconds, whoever runs, and the numbers above are the record.

