@@ -572,16 +572,21 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     const bool warmCapped = f->warmStarted && request.warmIterations && *request.warmIterations < no.maxIterations;
     if (warmCapped) first.maxIterations = std::max(1, *request.warmIterations);
     f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, first, onIteration(false), cancel, checkpoint);
-    if (const int more = warmCapped ? warmStartFinish(f->report, no.relativeTolerance) : 0; more > 0) {
-        say(format("the warm start's budget of %d iterations is spent while it converges (relative residual %.3g): %d "
-                   "more",
-                   first.maxIterations, f->report.history.back().relativeResidual, more));
-        flow::NewtonOptions rest = no;
-        rest.maxIterations = more;
-        if (f->report.cflBase > 0) rest.cfl0 = f->report.cflBase;
-        f->budgetReport = std::move(f->report);
-        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, rest, onIteration(false), cancel, checkpoint);
-    }
+    if (warmCapped)
+        f->report = extendWarmStart(
+            std::move(f->report), no.relativeTolerance, f->budgetReport,
+            [&](int more, double cfl) {
+                flow::NewtonOptions rest = no;
+                rest.maxIterations = more;
+                if (cfl > 0) rest.cfl0 = cfl;
+                return flow::solveFlow(f->mesh, f->metrics, ro, q, rest, onIteration(false), cancel, checkpoint);
+            },
+            [&](int more, double relative) {
+                say(format("the warm start's %s is spent while it converges (relative residual %.3g): %d more",
+                           f->budgetReport.iterations > 0 ? "extension"
+                                                          : format("budget of %d iterations", first.maxIterations).c_str(),
+                           relative, more));
+            });
     const flow::FlowStatus st = f->report.status;
     // A warm start cut by the request's budget failed as a stall does (the retries have the case's).
     const bool failed = st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber ||
@@ -757,7 +762,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             why += format("; the warm start's budget of %d iterations (optimization.warm_start_iterations) is spent%s%s",
                           first.maxIterations,
                           f->budgetReport.iterations > 0
-                              ? format(", and the %d more it got while converging fast", f->report.iterations).c_str()
+                              ? format(", and the %d more it got while converging fast",
+                                       f->budgetReport.iterations + f->report.iterations - first.maxIterations)
+                                    .c_str()
                               : "",
                           falling > 0 ? format(" while it crawls (a factor of %.3g over the last %d iterations)", falling,
                                                kStillFallingWindow).c_str()
@@ -806,6 +813,44 @@ int warmStartFinish(const flow::FlowReport& r, double relativeTolerance) {
     if (!(now > 0 && now < before)) return 0;
     const double needed = std::log(now / relativeTolerance) / (std::log(before / now) / kStillFallingWindow);
     return needed <= kWarmFinishMost ? static_cast<int>(std::ceil(needed)) + 2 : 0;
+}
+
+namespace {
+
+// `from`'s iterations after `to`'s, as one report: counts, time and history add up; the status,
+// the residual and the CFL law's base are where `from` ended.
+void appendReport(flow::FlowReport& to, const flow::FlowReport& from) {
+    if (to.history.empty() && to.iterations == 0) {
+        to = from;
+        return;
+    }
+    to.history.insert(to.history.end(), from.history.begin(), from.history.end());
+    to.iterations += from.iterations;
+    to.linearIterations += from.linearIterations;
+    to.seconds += from.seconds;
+    to.status = from.status;
+    to.message = from.message;
+    to.finalResidual = from.finalResidual;
+    to.cflBase = from.cflBase;
+    to.lumping = from.lumping;
+}
+
+}  // namespace
+
+flow::FlowReport extendWarmStart(flow::FlowReport report, double relativeTolerance, flow::FlowReport& before,
+                                 const std::function<flow::FlowReport(int more, double cfl)>& solve,
+                                 const std::function<void(int more, double relativeResidual)>& announce) {
+    for (int extension = 0; extension < kWarmExtensions && !report.history.empty(); ++extension) {
+        flow::FlowReport sofar = before;  // the rate over the last window may span two solves
+        appendReport(sofar, report);
+        const int more = warmStartFinish(sofar, relativeTolerance);
+        if (more <= 0) break;
+        announce(more, report.history.back().relativeResidual);
+        const double cfl = report.cflBase;
+        appendReport(before, report);
+        report = solve(more, cfl);
+    }
+    return report;
 }
 
 double stillFalling(const flow::FlowReport& r) {

@@ -169,6 +169,21 @@ inline constexpr double kStillFallingFactor = 10.0;
 inline constexpr int kWarmFinishMost = 30;
 int warmStartFinish(const flow::FlowReport& r, double relativeTolerance);
 
+/// How many times a warm start is extended past its budget, each time as warmStartFinish grants
+/// from all its iterations so far: a rate can slow on the way (the thirty-fourth session's
+/// evaluation 11 got 18 more at 2.9e-9, came down 6.6 instead of 8.7 times per ten iterations and
+/// stopped short, 4.4e-10 after ten, a flow lost on the way to 1e-10).
+inline constexpr int kWarmExtensions = 3;
+
+/// Extends a warm start whose budget ran out while it converged (see kWarmExtensions).
+/// `report` is the budget's solve; `solve(more, cfl)` runs `more` iterations from where the last
+/// solve stopped, with the CFL law's base it ended at (`cfl`, 0 for the case's); `announce(more,
+/// relativeResidual)` is told before each extension. Returns the last solve's report and appends
+/// the ones before it to `before` (iterations, GMRES iterations, time and history add up).
+flow::FlowReport extendWarmStart(flow::FlowReport report, double relativeTolerance, flow::FlowReport& before,
+                                 const std::function<flow::FlowReport(int more, double cfl)>& solve,
+                                 const std::function<void(int more, double relativeResidual)>& announce);
+
 /// The factor by which such a solve's residual fell over its last kStillFallingWindow
 /// iterations; 0 when it is not still falling (another status, too short or too slow a history).
 double stillFalling(const flow::FlowReport& r);
@@ -203,9 +218,10 @@ struct FlowResult {
     flow::FlowReport warmReport;            // a warm start that failed and was solved again from the
                                             // free stream (EvaluationRequest::coldRetry; else empty)
     bool coldRetry() const { return warmReport.iterations > 0 || !warmReport.message.empty(); }
-    flow::FlowReport budgetReport;          // a warm start's first EvaluationRequest::warmIterations,
-                                            // when they ran out while Newton converged fast and the
-                                            // solve went on (report: the rest; else empty)
+    flow::FlowReport budgetReport;          // a warm start's first EvaluationRequest::warmIterations
+                                            // and the extensions before the last, when they ran out
+                                            // while Newton converged fast and the solve went on
+                                            // (extendWarmStart; report: the last; else empty)
     bool sequencedRetry() const { return sequencedReport.iterations > 0 || !sequencedReport.message.empty(); }
     flow::FlowReport failedReport;          // a cold solve that failed and was solved again by
                                             // continuation in the dissipation (else empty) ...

@@ -389,6 +389,101 @@ TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
     EXPECT_NEAR(e.flow->forces.CD, free.flow->forces.CD, 1e-8);
 }
 
+// The extension is renewed while the iterations so far project the tolerance within
+// kWarmFinishMost, up to kWarmExtensions times: evaluation 11 of the thirty-fourth session's
+// Figure 4 run reached 2.9e-9 at its budget (8.7 times per ten iterations, 18 more), then came
+// down only 6.6 times per ten and stopped short. A crawl is not renewed.
+TEST(CaseEvaluator, AWarmStartsExtensionIsRenewedWhileItsRateProjectsTheTolerance) {
+    // `n` iterations coming down geometrically from `from` to `to`, ending with `status`.
+    auto run = [](int n, double from, double to, flow::FlowStatus status, double cfl) {
+        flow::FlowReport r;
+        r.status = status;
+        r.iterations = n;
+        r.linearIterations = 10 * n;
+        r.cflBase = cfl;
+        for (int i = 1; i <= n; ++i) {
+            flow::FlowIteration it;
+            it.iteration = i;
+            it.relativeResidual = from * std::pow(to / from, static_cast<double>(i) / n);
+            r.history.push_back(it);
+        }
+        return r;
+    };
+    const double tol = 1e-10;
+    std::vector<std::pair<int, double>> calls;  // (more, cfl) of each extension
+    std::vector<int> announced;
+    auto announce = [&](int more, double) { announced.push_back(more); };
+
+    // The rate slows in the first extension (8.8 -> 4.4 per ten): a second one converges.
+    {
+        calls.clear();
+        announced.clear();
+        flow::FlowReport before;
+        const flow::FlowReport last = study::extendWarmStart(
+            run(80, 1e-1, 2.89e-9, flow::FlowStatus::MaxIterations, 100), tol, before,
+            [&](int more, double cfl) {
+                calls.emplace_back(more, cfl);
+                return calls.size() == 1 ? run(more, 2.89e-9, 2e-10, flow::FlowStatus::MaxIterations, 200)
+                                         : run(more, 2e-10, 9e-11, flow::FlowStatus::Converged, 300);
+            },
+            announce);
+        ASSERT_EQ(calls.size(), 2u);
+        EXPECT_EQ(calls[0], std::make_pair(18, 100.0));  // 15.5 projected, and two
+        EXPECT_EQ(calls[1], std::make_pair(7, 200.0));   // 4.7 at 4.4 per ten, and two
+        EXPECT_EQ(announced, (std::vector<int>{18, 7}));
+        EXPECT_EQ(last.status, flow::FlowStatus::Converged);
+        EXPECT_EQ(last.iterations, 7);
+        // The budget and the first extension, as one report before the last.
+        EXPECT_EQ(before.iterations, 98);
+        EXPECT_EQ(before.linearIterations, 980);
+        EXPECT_EQ(before.history.size(), 98u);
+        EXPECT_DOUBLE_EQ(before.history.back().relativeResidual, 2e-10);
+        EXPECT_EQ(before.cflBase, 200);
+    }
+    // The first extension crawls (1.4 per ten: 74 more projected): it is the last.
+    {
+        calls.clear();
+        flow::FlowReport before;
+        const flow::FlowReport last = study::extendWarmStart(
+            run(80, 1e-1, 2.89e-9, flow::FlowStatus::MaxIterations, 100), tol, before,
+            [&](int more, double cfl) {
+                calls.emplace_back(more, cfl);
+                return run(more, 2.89e-9, 1.5e-9, flow::FlowStatus::MaxIterations, 200);
+            },
+            announce);
+        EXPECT_EQ(calls.size(), 1u);
+        EXPECT_EQ(last.status, flow::FlowStatus::MaxIterations);
+        EXPECT_EQ(before.iterations, 80);
+    }
+    // Never more than kWarmExtensions, however well each projects.
+    {
+        calls.clear();
+        flow::FlowReport before;
+        study::extendWarmStart(run(80, 1e-1, 1e-8, flow::FlowStatus::MaxIterations, 100), tol, before,
+                               [&](int more, double cfl) {
+                                   calls.emplace_back(more, cfl);
+                                   return run(12, 1e-7, 1e-8, flow::FlowStatus::MaxIterations, 100);
+                               },
+                               announce);
+        EXPECT_EQ(static_cast<int>(calls.size()), study::kWarmExtensions);
+        EXPECT_EQ(before.iterations, 80 + 12 * (study::kWarmExtensions - 1));
+    }
+    // A budget's solve that converged, stalled or crawled is not extended at all.
+    for (const auto& r : {run(40, 1e-1, 9e-11, flow::FlowStatus::Converged, 100),
+                          run(40, 1e-1, 1e-6, flow::FlowStatus::Stalled, 100),
+                          run(80, 1e-4, 1e-6, flow::FlowStatus::MaxIterations, 100)}) {
+        calls.clear();
+        flow::FlowReport before;
+        const flow::FlowReport last = study::extendWarmStart(r, tol, before, [&](int more, double cfl) {
+            calls.emplace_back(more, cfl);
+            return r;
+        }, announce);
+        EXPECT_TRUE(calls.empty());
+        EXPECT_EQ(last.iterations, r.iterations);
+        EXPECT_EQ(before.iterations, 0);
+    }
+}
+
 // A warm start that fails is solved again from the free stream (the optimizer's evaluation 13 on
 // the 98k grid stalled warm and converges cold): here the warm state is made non-physical, so the
 // warm solve stops at once; the retry is the cold solve, bit for bit. Without the retry the
