@@ -572,6 +572,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     const bool warmCapped = f->warmStarted && request.warmIterations && *request.warmIterations < no.maxIterations;
     if (warmCapped) first.maxIterations = std::max(1, *request.warmIterations);
     f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, first, onIteration(false), cancel, checkpoint);
+    const int budgetIterations = f->report.iterations;  // accepted ones (rejected attempts count against the budget)
     if (warmCapped)
         f->report = extendWarmStart(
             std::move(f->report), no.relativeTolerance, f->budgetReport,
@@ -763,7 +764,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                           first.maxIterations,
                           f->budgetReport.iterations > 0
                               ? format(", and the %d more it got while converging fast",
-                                       f->budgetReport.iterations + f->report.iterations - first.maxIterations)
+                                       f->budgetReport.iterations + f->report.iterations - budgetIterations)
                                     .c_str()
                               : "",
                           falling > 0 ? format(" while it crawls (a factor of %.3g over the last %d iterations)", falling,
