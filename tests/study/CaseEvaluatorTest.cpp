@@ -8,7 +8,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/Error.h"
 #include "flow/Residual.h"
@@ -409,24 +412,29 @@ TEST(CaseEvaluator, AWarmStartsExtensionIsRenewedWhileItsRateProjectsTheToleranc
         }
         return r;
     };
-    const double tol = 1e-10;
     std::vector<std::pair<int, double>> calls;  // (more, cfl) of each extension
     std::vector<int> announced;
-    auto announce = [&](int more, double) { announced.push_back(more); };
-
-    // The rate slows in the first extension (8.8 -> 4.4 per ten): a second one converges.
-    {
+    // Extends `budget` with the solves `next(more)` scripts; returns the last report and the ones before it.
+    auto extend = [&](const flow::FlowReport& budget, const std::function<flow::FlowReport(int)>& next) {
         calls.clear();
         announced.clear();
         flow::FlowReport before;
-        const flow::FlowReport last = study::extendWarmStart(
-            run(80, 1e-1, 2.89e-9, flow::FlowStatus::MaxIterations, 100), tol, before,
+        flow::FlowReport last = study::extendWarmStart(
+            budget, 1e-10, before,
             [&](int more, double cfl) {
                 calls.emplace_back(more, cfl);
-                return calls.size() == 1 ? run(more, 2.89e-9, 2e-10, flow::FlowStatus::MaxIterations, 200)
-                                         : run(more, 2e-10, 9e-11, flow::FlowStatus::Converged, 300);
+                return next(more);
             },
-            announce);
+            [&](int more, double) { announced.push_back(more); });
+        return std::pair{last, before};
+    };
+
+    // The rate slows in the first extension (8.8 -> 4.4 per ten): a second one converges.
+    {
+        const auto [last, before] = extend(run(80, 1e-1, 2.89e-9, flow::FlowStatus::MaxIterations, 100), [&](int more) {
+            return calls.size() == 1 ? run(more, 2.89e-9, 2e-10, flow::FlowStatus::MaxIterations, 200)
+                                     : run(more, 2e-10, 9e-11, flow::FlowStatus::Converged, 300);
+        });
         ASSERT_EQ(calls.size(), 2u);
         EXPECT_EQ(calls[0], std::make_pair(18, 100.0));  // 15.5 projected, and two
         EXPECT_EQ(calls[1], std::make_pair(7, 200.0));   // 4.7 at 4.4 per ten, and two
@@ -442,42 +450,26 @@ TEST(CaseEvaluator, AWarmStartsExtensionIsRenewedWhileItsRateProjectsTheToleranc
     }
     // The first extension crawls (1.4 per ten: 74 more projected): it is the last.
     {
-        calls.clear();
-        flow::FlowReport before;
-        const flow::FlowReport last = study::extendWarmStart(
-            run(80, 1e-1, 2.89e-9, flow::FlowStatus::MaxIterations, 100), tol, before,
-            [&](int more, double cfl) {
-                calls.emplace_back(more, cfl);
-                return run(more, 2.89e-9, 1.5e-9, flow::FlowStatus::MaxIterations, 200);
-            },
-            announce);
+        const auto [last, before] = extend(run(80, 1e-1, 2.89e-9, flow::FlowStatus::MaxIterations, 100), [&](int more) {
+            return run(more, 2.89e-9, 1.5e-9, flow::FlowStatus::MaxIterations, 200);
+        });
         EXPECT_EQ(calls.size(), 1u);
         EXPECT_EQ(last.status, flow::FlowStatus::MaxIterations);
         EXPECT_EQ(before.iterations, 80);
     }
     // Never more than kWarmExtensions, however well each projects.
     {
-        calls.clear();
-        flow::FlowReport before;
-        study::extendWarmStart(run(80, 1e-1, 1e-8, flow::FlowStatus::MaxIterations, 100), tol, before,
-                               [&](int more, double cfl) {
-                                   calls.emplace_back(more, cfl);
-                                   return run(12, 1e-7, 1e-8, flow::FlowStatus::MaxIterations, 100);
-                               },
-                               announce);
+        const auto [last, before] = extend(run(80, 1e-1, 1e-8, flow::FlowStatus::MaxIterations, 100),
+                                           [&](int) { return run(12, 1e-7, 1e-8, flow::FlowStatus::MaxIterations, 100); });
         EXPECT_EQ(static_cast<int>(calls.size()), study::kWarmExtensions);
+        EXPECT_EQ(last.iterations, 12);
         EXPECT_EQ(before.iterations, 80 + 12 * (study::kWarmExtensions - 1));
     }
     // A budget's solve that converged, stalled or crawled is not extended at all.
     for (const auto& r : {run(40, 1e-1, 9e-11, flow::FlowStatus::Converged, 100),
                           run(40, 1e-1, 1e-6, flow::FlowStatus::Stalled, 100),
                           run(80, 1e-4, 1e-6, flow::FlowStatus::MaxIterations, 100)}) {
-        calls.clear();
-        flow::FlowReport before;
-        const flow::FlowReport last = study::extendWarmStart(r, tol, before, [&](int more, double cfl) {
-            calls.emplace_back(more, cfl);
-            return r;
-        }, announce);
+        const auto [last, before] = extend(r, [&](int) { return r; });
         EXPECT_TRUE(calls.empty());
         EXPECT_EQ(last.iterations, r.iterations);
         EXPECT_EQ(before.iterations, 0);
