@@ -417,8 +417,8 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                                "start from a converged neighbour converges in 5-40 iterations on the 98k path, and "
                                "one that needs more crawls towards a nearly singular state (2 % per iteration) for "
                                "up to flow.max_iterations; one whose last ten iterations' rate reaches the tolerance "
-                               "within 30 more gets those and two, and so again after them while that holds (three "
-                               "times at most); 0: flow.max_iterations"));
+                               "within 30 more gets those and two (more where steps were rejected), and so again while "
+                               "that holds (three times at most); 0: flow.max_iterations"));
         o.push_back(boolean<O>("stall_modes", [](O& c) -> bool& { return c.stallModes; },
                                "a step from an accepted design whose flow does not converge also looks for the "
                                "flow's growing modes (flow.stall_modes: about a minute at 98k nodes, more than an "

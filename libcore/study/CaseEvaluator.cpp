@@ -813,7 +813,14 @@ int warmStartFinish(const flow::FlowReport& r, double relativeTolerance) {
     const double before = r.history[h - 1 - kStillFallingWindow].relativeResidual, now = r.history[h - 1].relativeResidual;
     if (!(now > 0 && now < before)) return 0;
     const double needed = std::log(now / relativeTolerance) / (std::log(before / now) / kStillFallingWindow);
-    return needed <= kWarmFinishMost ? static_cast<int>(std::ceil(needed)) + 2 : 0;
+    if (!(needed <= kWarmFinishMost)) return 0;
+    // The history holds accepted iterations, the grant counts attempts: as many attempts per
+    // accepted iteration as the window had (1 where it spans two solves, whose attempts are
+    // numbered from 1 again: the difference then undercounts), at most kWarmAttemptsPerAccepted.
+    const int attempts = r.history[h - 1].iteration - r.history[h - 1 - kStillFallingWindow].iteration;
+    const double perAccepted =
+        std::clamp(static_cast<double>(attempts) / kStillFallingWindow, 1.0, kWarmAttemptsPerAccepted);
+    return static_cast<int>(std::ceil(needed * perAccepted)) + 2;
 }
 
 namespace {

@@ -165,8 +165,11 @@ inline constexpr double kStillFallingFactor = 10.0;
 /// evaluation 13, twenty-seventh session: 4.4e-10 at its 80th iteration, a factor of 5.7 over the
 /// last ten, 11 more; the thirty-fourth session's evaluation 11: 2.9e-9 at a factor of 8.7, 18
 /// more, where the former limit of ten lost a flow 8.5 orders down). A crawl (2 % per iteration)
-/// projects hundreds.
+/// projects hundreds. The count is of accepted iterations; the grant is in attempts, so it is
+/// scaled by the attempts per accepted iteration over the same window (a rejected attempt, whose
+/// CFL is cut, counts against flow.max_iterations too), at most kWarmAttemptsPerAccepted.
 inline constexpr int kWarmFinishMost = 30;
+inline constexpr double kWarmAttemptsPerAccepted = 2.0;
 int warmStartFinish(const flow::FlowReport& r, double relativeTolerance);
 
 /// How many times a warm start is extended past its budget, each time as warmStartFinish grants

@@ -363,6 +363,17 @@ TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
     EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-7, 8.0), 1e-10), 0);      // 33.2
     EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::MaxIterations, 1e-6, 1.3), 1e-10), 0);  // a crawl: 351
     EXPECT_EQ(study::warmStartFinish(report(flow::FlowStatus::Stalled, 4.4e-10, 5.7), 1e-10), 0);
+    // Rejected attempts in the window (the attempt numbers skip): the grant counts attempts, at the
+    // window's 13 per 10 accepted (15.6 -> 20.3), at most twice the projection.
+    flow::FlowReport rejecting = report(flow::FlowStatus::MaxIterations, 2.89e-9, 8.66);
+    for (std::size_t i = rejecting.history.size() - 5; i < rejecting.history.size(); ++i) rejecting.history[i].iteration += 3;
+    EXPECT_EQ(study::warmStartFinish(rejecting, 1e-10), 23);
+    for (std::size_t i = rejecting.history.size() - 5; i < rejecting.history.size(); ++i) rejecting.history[i].iteration += 30;
+    EXPECT_EQ(study::warmStartFinish(rejecting, 1e-10), 34);  // 15.6 x 2
+    // A window across two solves, whose attempts are numbered from 1 again: as accepted.
+    for (std::size_t i = rejecting.history.size() - 5; i < rejecting.history.size(); ++i)
+        rejecting.history[i].iteration = static_cast<int>(i + 6 - rejecting.history.size());
+    EXPECT_EQ(study::warmStartFinish(rejecting, 1e-10), 18);
     flow::FlowReport shortRun = report(flow::FlowStatus::MaxIterations, 4.4e-10, 5.7);
     shortRun.history.resize(w);
     EXPECT_EQ(study::warmStartFinish(shortRun, 1e-10), 0);
