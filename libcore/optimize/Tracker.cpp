@@ -49,6 +49,14 @@ const Values* Tracker::values(const double* x) {
     e.x.assign(x, x + p_.start.size());
     ++evaluations_;
     e.v = p_.values(e.x);
+    if (!e.v.ok && s_.cancel && s_.cancel->load()) {
+        // Cut short by a cancel: not an evaluation of the run (the caller records none, and a
+        // resumed run makes it again), so neither counted nor a failure that cuts the step.
+        --evaluations_;
+        stop_ = Status::Cancelled;
+        lastFailure_ = "cancelled";
+        return nullptr;
+    }
     if (e.v.ok && e.v.constraints.size() != p_.nonlinear.size()) {
         e.v.ok = false;
         e.v.message = "the evaluation returned " + std::to_string(e.v.constraints.size()) + " constraint values, expected " +

@@ -247,6 +247,34 @@ TEST_P(Optimizers, StopAtTheEvaluationLimitAndOnCancel) {
     EXPECT_LT(r.iterations, 6);
 }
 
+// A cancel that arrives during an evaluation cuts it short (the flow stops and its values say
+// so): the run stops there as cancelled. That evaluation is neither counted nor a failure, so the
+// optimizer does not cut its step and log a restart on its way out.
+TEST_P(Optimizers, AnEvaluationCutShortByACancelIsNoFailure) {
+    std::atomic<bool> cancel{false};
+    Problem p = hs71();
+    int made = 0;
+    const auto inner = p.values;
+    p.values = [&](const std::vector<double>& x) {
+        if (++made < 4) return inner(x);
+        cancel = true;  // the cancel arrives while the fourth evaluation runs
+        Values v;
+        v.ok = false;
+        v.message = "cancelled";
+        return v;
+    };
+    Settings s;
+    s.cancel = &cancel;
+    std::vector<std::string> lines;
+    s.log = [&](const std::string& line) { lines.push_back(line); };
+    const Result r = makeOptimizer(GetParam())->minimize(p, s);
+    EXPECT_EQ(r.status, Status::Cancelled) << r.message;
+    EXPECT_EQ(made, 4);
+    EXPECT_EQ(r.evaluations, 3);
+    EXPECT_EQ(r.failedEvaluations, 0);
+    for (const std::string& line : lines) EXPECT_EQ(line.find("restart"), std::string::npos) << line;
+}
+
 TEST_P(Optimizers, ReportAStartThatCannotBeEvaluated) {
     Problem p = quadratic(false);
     p.values = [](const std::vector<double>&) {
