@@ -8,12 +8,15 @@
 // many tiny steps (the 98k sphere-to-wing run: eight evaluations gaining 0.1 % in all).
 // NLopt 2.7's SLSQP asks for the gradient with the first trial point of every line search (its
 // shortcut for the usual case that the full step is taken) and at a later trial it accepts, not
-// at the trials in between. Such a point counts as an iteration of the common report unless it is
-// worse than the last iteration in both objective and feasibility (a filter's test): then it is
-// a first trial the line search rejects. The driver restarts from the last iteration, so never
+// at the trials in between. So whether SLSQP's merit function took a first trial is known only at
+// the next call: a point without a gradient is a trial of the same line search (the first one was
+// rejected), a new point with a gradient starts the next line search (it was taken). Only taken
+// points are iterations of the common report, and the driver restarts from the last one, never
 // from a rejected trial: on the 98k multilevel path a restart from one (CL/CD -0.09 against the
 // start's 7.69) sent the next steps onto another branch of the flow, and the study layer's warm
-// starts come from the last iteration's flow.
+// starts come from the iterates' flows. (The driver used to judge a first trial at once, as taken
+// unless it was worse in both objective and feasibility; the thirty-sixth session's Figure 4 run
+// showed a trial better in feasibility by 3e-4 and worse in L/D by 0.17 that SLSQP rejected.)
 #include <nlopt.hpp>
 #include <algorithm>
 #include <cmath>
@@ -45,6 +48,9 @@ struct Run {
     const std::vector<double>* boxLower = nullptr;
     const std::vector<double>* boxUpper = nullptr;
     double previous = std::numeric_limits<double>::quiet_NaN();
+    // A line search's first trial, with its gradient, not yet known to be taken; the last trial
+    // evaluated without a gradient.
+    std::vector<double> pending{}, lastTrial{};
 };
 
 // Whether x lies on a face of the run's box that is not one of the problem's own bounds.
@@ -67,41 +73,60 @@ bool onBoxFace(const Run& r, const double* x, unsigned n) {
     throw nlopt::forced_stop();
 }
 
+bool samePoint(const double* x, const std::vector<double>& y, unsigned n) {
+    return y.size() == n && std::equal(x, x + n, y.begin());
+}
+
+// SLSQP took the pending point (its values and gradient are in the tracker's cache): it is the
+// next iteration. Throws nlopt::forced_stop when the run ends there (converged, the iteration
+// limit) or its box is to grow.
+void take(Run& r) {
+    const std::vector<double> x = std::move(r.pending);
+    r.pending.clear();
+    const Values* v = r.t.values(x.data());
+    const Problem& p = r.t.problem();
+    const double h = std::max(feasibility(p, x, v->constraints), r.t.settings().feasibilityTolerance);
+    r.accepted = {x, v->objective, h};
+    if (r.t.iterate(++r.iteration, x.data())) {
+        r.converged = true;
+        throw nlopt::forced_stop();
+    }
+    if (r.iteration >= r.t.settings().maxIterations) {
+        r.iterationLimit = true;
+        throw nlopt::forced_stop();
+    }
+    const double gain = r.previous - v->objective;
+    const double scale = std::max(std::abs(r.previous), std::abs(v->objective));
+    r.previous = v->objective;
+    // A gain, but a small one (a worse point is a line-search trial: SLSQP goes on from it).
+    if (std::isfinite(gain) && gain >= 0 && gain < kBoxProgress * scale && onBoxFace(r, x.data(), static_cast<unsigned>(x.size()))) {
+        throw nlopt::forced_stop();  // the driver below grows the box
+    }
+}
+
 double objective(unsigned n, const double* x, double* grad, void* data) {
     Run& r = *static_cast<Run*>(data);
+    if (!r.pending.empty() && !samePoint(x, r.pending, n)) {
+        if (grad) take(r);  // the next line search: the pending first trial was taken
+        else r.pending.clear();  // a trial of its line search: it was rejected
+    }
     const Values* v = r.t.values(x);
     if (!v) fail(r, x, n);
-    if (grad) {
-        const Gradients* g = r.t.gradients(x);
-        if (!g) fail(r, x, n);
-        std::copy(g->objective.begin(), g->objective.end(), grad);
-        if (std::equal(x, x + n, r.accepted.x.begin(), r.accepted.x.end())) {
-            r.previous = v->objective;  // a restart's start
-            return v->objective;
-        }
-        const Problem& p = r.t.problem();
-        std::vector<double> at(x, x + n);
-        const double h = std::max(feasibility(p, at, v->constraints), r.t.settings().feasibilityTolerance);
-        if (!r.accepted.x.empty() && v->objective > r.accepted.objective && h >= r.accepted.infeasibility) {
-            return v->objective;  // a first trial SLSQP's line search rejects: not an iteration
-        }
-        r.accepted = {std::move(at), v->objective, h};
-        if (r.t.iterate(++r.iteration, x)) {
-            r.converged = true;
-            throw nlopt::forced_stop();
-        }
-        if (r.iteration >= r.t.settings().maxIterations) {
-            r.iterationLimit = true;
-            throw nlopt::forced_stop();
-        }
-        const double gain = r.previous - v->objective;
-        const double scale = std::max(std::abs(r.previous), std::abs(v->objective));
-        r.previous = v->objective;
-        // A gain, but a small one (a worse point is a line-search trial: SLSQP goes on from it).
-        if (std::isfinite(gain) && gain >= 0 && gain < kBoxProgress * scale && onBoxFace(r, x, n)) {
-            throw nlopt::forced_stop();  // the driver below grows the box
-        }
+    if (!grad) {
+        r.lastTrial.assign(x, x + n);
+        return v->objective;
     }
+    const Gradients* g = r.t.gradients(x);
+    if (!g) fail(r, x, n);
+    std::copy(g->objective.begin(), g->objective.end(), grad);
+    if (samePoint(x, r.accepted.x, n)) {
+        r.previous = v->objective;  // a restart's start
+        return v->objective;
+    }
+    r.pending.assign(x, x + n);
+    // The run's first point is its start. A later trial's gradient is asked for once the line
+    // search has taken it; a first trial's is asked for with its values, and the next call tells.
+    if (r.accepted.x.empty() || samePoint(x, r.lastTrial, n)) take(r);
     return v->objective;
 }
 
@@ -205,6 +230,14 @@ public:
                 why = "SLSQP is limited by round-off";
             } catch (const std::exception& e) {
                 why = std::string("SLSQP failed: ") + e.what();
+            }
+            if (!run.pending.empty() && r != nlopt::FORCED_STOP) {
+                // NLopt ended right after a line search took its first trial (its own tests run
+                // on a taken point only).
+                try {
+                    take(run);
+                } catch (const nlopt::forced_stop&) {
+                }
             }
             iterations = run.iteration;
             if (run.converged) return t.result(Status::Converged, "optimality and feasibility within their tolerances");

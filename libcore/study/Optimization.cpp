@@ -10,6 +10,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
@@ -652,7 +653,6 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     for (const optimize::ConstraintSpec& k : p.nonlinear) header.constraintNames.push_back(k.name);
     std::deque<OptimizationRecord> replay;
     std::vector<OptimizationRecord> kept;  // the records of the file, as they stay
-    int recordedIterations = -1;
     CsvHistory csv(summary.historyCsv, summary.iterationsCsv, summary.names);
     if (o.resume) {
         if (!fs::exists(summary.historyJsonl)) {
@@ -683,7 +683,6 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             if (r.kind == Kind::Values && !(r.planform.projectedArea > 0) && r.x.size() == static_cast<std::size_t>(n))
                 r.planform = planformOf(model.deform(design(r.x)));
             if (r.kind == Kind::Values || r.kind == Kind::Gradient) replay.push_back(r);
-            if (r.kind == Kind::Iteration) recordedIterations = std::max(recordedIterations, r.index);
         }
         say(format("resuming: %.0f evaluations and %.0f gradients in '%s' are replayed, not solved again",
                    static_cast<double>(std::count_if(replay.begin(), replay.end(), [](const auto& r) { return r.kind == Kind::Values; })),
@@ -725,9 +724,21 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         appendLine(summary.historyJsonl, toJson(r).dump(), "optimization history");
         csv.append(r);
     };
+    // While replaying, an iteration the file holds at the same point is replayed; from the first
+    // one it does not hold there (this build numbers the iterations otherwise, e.g. judges
+    // SLSQP's trials otherwise) on, every iteration waits here until the replay ends, when the
+    // file's iterations from that number on are dropped as stale and these are written in order.
+    std::vector<OptimizationRecord> unrecordedIterations;
+    int replayedIterations = -1;  // the last iteration replayed
     auto stopReplay = [&](const char* why) {
         if (!replaying) return;
         replaying = false;
+        const int stale = unrecordedIterations.empty() ? replayedIterations + 1 : unrecordedIterations.front().index;
+        const auto before = kept.size();
+        kept.erase(std::remove_if(kept.begin(), kept.end(),
+                                  [&](const OptimizationRecord& r) { return r.kind == Kind::Iteration && r.index >= stale; }),
+                   kept.end());
+        const bool rewrite = kept.size() != before || !replay.empty();
         if (!replay.empty()) {
             // The optimizer left the recorded path (e.g. another build): the rest no longer applies.
             say(std::string("the optimizer left the recorded path (") + why + "): the " + std::to_string(replay.size()) +
@@ -740,14 +751,17 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
                 if (kept[cut].kind == Kind::Values || kept[cut].kind == Kind::Gradient) ++removed;
             }
             kept.resize(cut);
-            recordedIterations = -1;  // the iterations from here on are new ones, to be written
-            for (const OptimizationRecord& r : kept) {
-                if (r.kind == Kind::Iteration) recordedIterations = std::max(recordedIterations, r.index);
-            }
-            rewriteHistory();
-            csv.rewrite(kept);
             replay.clear();
         }
+        if (rewrite) {
+            rewriteHistory();
+            csv.rewrite(kept);
+        }
+        for (OptimizationRecord& r : unrecordedIterations) {
+            appendLine(summary.historyJsonl, toJson(r).dump(), "optimization history");
+            csv.append(r);
+        }
+        unrecordedIterations.clear();
     };
     // An accepted evaluation's state joins the candidates; the oldest beyond kKeptStates go (their
     // files too), except the optimizer's last two iterates and the state this evaluation started
@@ -768,9 +782,15 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
             --extra;
         }
     };
-    // Gives the evaluator the state of the optimizer's current iterate, the design the step to u
-    // came from (else, before the first iterate or when its state is gone, that of the kept
-    // evaluation closest to u); returns that evaluation (0: none, a cold start). A candidate whose
+    // Gives the evaluator the state of the design the step to u came from: of the optimizer's last
+    // two iterates, the one closer to u (else, before the first iterate or when its state is gone,
+    // that of the kept evaluation closest to u); returns that evaluation (0: none, a cold start).
+    // The previous iterate counts because a line search can run from it: SLSQP's driver takes a
+    // first trial that is better in feasibility but worse in objective for an iteration, and when
+    // SLSQP's merit function rejects it, the next trials lie between the two, closer to the
+    // previous one (the thirty-sixth session's Figure 4 run: six trials within 3e-4 to 3e-9 of
+    // it, all started from the rejected trial's flow, all on its branch at L/D 1.945 against the
+    // previous iterate's 2.028, and the line search could not succeed). A candidate whose
     // file is gone (a history of an older build kept only the newest two) is dropped; when none
     // is left, the newest state in the folder, a nearby converged flow of a discarded evaluation,
     // is a better start than the free stream.
@@ -779,7 +799,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         while (!warmCandidates.empty()) {
             const bool atIterate = std::any_of(warmCandidates.begin(), warmCandidates.end(),
                                                [&](const WarmCandidate& k) { return k.evaluation == iterate; });
-            const int from = atIterate ? iterate : closestWarmStart(warmCandidates, u);
+            std::vector<WarmCandidate> base;
+            if (atIterate) {
+                std::copy_if(warmCandidates.begin(), warmCandidates.end(), std::back_inserter(base),
+                             [&](const WarmCandidate& k) { return k.evaluation == iterate || k.evaluation == previousIterate; });
+            }
+            const int from = closestWarmStart(atIterate ? base : warmCandidates, u);
             std::vector<double> q = io::readWarmState(statePath(from));
             if (!q.empty()) {
                 ev.setWarmStart(std::move(q));
@@ -1076,8 +1101,18 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
         r.objective = it.objective;
         r.optimality = it.optimality;
         r.feasibility = it.feasibility;
-        r.replayed = it.iteration <= recordedIterations;
-        record(r);
+        if (replaying) {
+            r.replayed = unrecordedIterations.empty() && std::any_of(kept.begin(), kept.end(), [&](const OptimizationRecord& k) {
+                return k.kind == Kind::Iteration && k.index == it.iteration && sameBits(k.x, it.x);
+            });
+            if (r.replayed) replayedIterations = it.iteration;
+        }
+        if (replaying && !r.replayed) {
+            if (o.onRecord) o.onRecord(r);
+            unrecordedIterations.push_back(r);
+        } else {
+            record(r);
+        }
         const OptimizationRecord* v = csv.valuesAt(it.x);
         // The iterate's evaluation is the newest kept state at its point. Not csv.valuesAt: on a
         // resume that leaves its recorded path, it still holds the records about to be discarded,

@@ -12,9 +12,10 @@
 // --resume replays), `<history>.csv` (per evaluation: status, J, CL, CD, volume, flow and adjoint
 // iterations, times, the design) and `<history stem>_iterations.csv` (per major iteration:
 // objective, optimality, feasibility). Each evaluation's flow starts from the state of the
-// optimizer's current iterate, the design its step came from (before the first iterate, from the
-// accepted evaluation closest to it: closestWarmStart), not from the last converged evaluation,
-// which may be a rejected line-search trial on another branch of the flow. The states are kept
+// design its step came from: of the optimizer's last two iterates, the one closer to it (a line
+// search runs from one of them; before the first iterate, from the accepted evaluation closest to
+// it: closestWarmStart), not from the last converged evaluation, which may be a rejected
+// line-search trial on another branch of the flow. The states are kept
 // on disk (the newest few accepted ones and the optimizer's last two iterates) so that a resumed
 // run starts its next evaluation from the same state: a run killed at any moment and resumed
 // reaches the same iterates, bit for bit, without solving again what the history holds.

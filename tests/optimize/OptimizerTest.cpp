@@ -175,7 +175,9 @@ TEST_P(Optimizers, SurviveAGradientThatFailsAtAnAcceptedPoint) {
     EXPECT_NEAR(r.x[1], 3.0, 1e-5);
     EXPECT_GE(r.failedEvaluations, 1);
     for (std::size_t i = 1; i < numbers.size(); ++i) EXPECT_GT(numbers[i], numbers[i - 1]) << i;
-    if (GetParam() == "ipopt") EXPECT_NE(log.find("Ipopt starts again from iteration"), std::string::npos) << log;
+    if (GetParam() == "ipopt") {
+        EXPECT_NE(log.find("Ipopt starts again from iteration"), std::string::npos) << log;
+    }
     std::printf("%s: %d evaluations, %d failed, %d iterations\n", GetParam().c_str(), r.evaluations, r.failedEvaluations,
                 r.iterations);
 }
@@ -337,6 +339,61 @@ TEST(Slsqp, RestartsFromThePointBeforeARejectedTrial) {
     ASSERT_FALSE(iterates.empty());
     EXPECT_EQ(iterates.front(), 1.0);
     for (std::size_t k = 1; k < iterates.size(); ++k) EXPECT_LE(std::abs(iterates[k]), std::abs(iterates[k - 1])) << path;
+}
+
+// A first trial that is better in feasibility but much worse in objective: SLSQP's merit function
+// rejects it and its line search goes on between the start and it. It is no iteration (the
+// driver judged it one, as feasibility had improved: the thirty-sixth session's Figure 4 run), and
+// neither is any trial the line search passes over; every iterate is a point SLSQP took.
+TEST(Slsqp, AFirstTrialTheLineSearchRejectsIsNoIterationThoughMoreFeasible) {
+    Problem p;
+    p.start = {1};  // infeasible by 1e-3
+    p.lower = {-30};
+    p.upper = {30};
+    p.nonlinear = {{"x", -kInf, 0.999}};
+    auto points = std::make_shared<std::vector<std::pair<double, bool>>>();  // x, with a gradient
+    p.values = [points](const std::vector<double>& x) {
+        points->push_back({x[0], false});
+        Values v;
+        v.objective = 10 * x[0] * x[0];
+        v.constraints = {x[0]};
+        return v;
+    };
+    p.gradients = [points](const std::vector<double>& x) {
+        for (auto& [at, withGradient] : *points) {
+            if (at == x[0]) withGradient = true;
+        }
+        Gradients g;
+        g.objective = {20 * x[0]};
+        g.constraints = {{1.0}};
+        return g;
+    };
+    Settings s;
+    std::vector<double> iterates;
+    s.onIteration = [&](const Iteration& it) { iterates.push_back(it.x[0]); };
+    const Result r = makeOptimizer("slsqp")->minimize(p, s);
+    std::string path;
+    for (const auto& [x, withGradient] : *points) path += " " + std::to_string(x) + (withGradient ? "g" : "");
+    std::string taken;
+    for (double x : iterates) taken += " " + std::to_string(x);
+    EXPECT_EQ(r.status, Status::Converged) << r.message << ";" << path;
+    EXPECT_NEAR(r.x[0], 0.0, 1e-6) << path;
+    // The path: the start, the full step of the first QP (-19: feasible, f 3,610 against 10),
+    // then a trial between them without a gradient.
+    ASSERT_GE(points->size(), 3u) << path;
+    EXPECT_EQ((*points)[1].first, -19.0) << path;
+    EXPECT_TRUE((*points)[1].second) << path;
+    EXPECT_FALSE((*points)[2].second) << path;
+    EXPECT_GT((*points)[2].first, -19.0) << path;
+    EXPECT_LT((*points)[2].first, 1.0) << path;
+    ASSERT_FALSE(iterates.empty());
+    EXPECT_EQ(iterates.front(), 1.0);
+    // Each iterate is better than the last in objective or in feasibility, and -19 is none of them.
+    for (double x : iterates) EXPECT_NE(x, -19.0) << "iterates:" << taken << "; path:" << path;
+    for (std::size_t k = 1; k < iterates.size(); ++k) {
+        EXPECT_TRUE(std::abs(iterates[k]) <= std::abs(iterates[k - 1]) || iterates[k - 1] > 0.999)
+            << "iterates:" << taken << "; path:" << path;
+    }
 }
 
 TEST(Optimizer, UnknownNameListsTheChoices) {

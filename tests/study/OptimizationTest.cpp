@@ -121,30 +121,41 @@ TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     study::OptimizationOptions o;
     o.fresh = true;
     double first = -1;
-    // Every warm start is from the optimizer's current iterate (the last iteration's evaluation),
-    // and a step's trials all start from it; count those that do not start from the newest
-    // accepted evaluation.
+    // Every warm start is from the design its step came from: of the optimizer's last two
+    // iterates (the last two iterations' evaluations), the one closer to it; count those that do
+    // not start from the newest accepted evaluation, and those from the previous iterate.
     std::vector<study::OptimizationRecord> accepted;
-    int iterate = 0, olderStarts = 0;
+    study::WarmCandidate iterate, previous;  // evaluation 0: none yet
+    int olderStarts = 0, previousStarts = 0;
     o.onRecord = [&](const study::OptimizationRecord& r) {
         if (r.kind == study::OptimizationRecord::Kind::Iteration) {
+            int at = 0;
             for (const auto& a : accepted) {
-                if (a.x == r.x) iterate = a.index;
+                if (a.x == r.x) at = a.index;
             }
-            EXPECT_GT(iterate, 0) << "iteration " << r.index << " is at no accepted evaluation";
+            EXPECT_GT(at, 0) << "iteration " << r.index << " is at no accepted evaluation";
+            if (at != iterate.evaluation) {
+                previous = iterate;
+                iterate = {at, r.x};
+            }
             return;
         }
         if (r.kind != study::OptimizationRecord::Kind::Values) return;
         if (r.ok && first < 0) first = r.J;
-        EXPECT_EQ(r.warmFrom, iterate) << "evaluation " << r.index;
+        std::vector<study::WarmCandidate> base;
+        for (const study::WarmCandidate& k : {previous, iterate}) {
+            if (k.evaluation > 0) base.push_back(k);
+        }
+        EXPECT_EQ(r.warmFrom, study::closestWarmStart(base, r.x)) << "evaluation " << r.index;
+        if (previous.evaluation > 0 && r.warmFrom == previous.evaluation) ++previousStarts;
         if (!accepted.empty() && r.warmFrom != accepted.back().index) ++olderStarts;
         if (r.ok) accepted.push_back(r);
     };
     const study::OptimizationSummary s = study::optimizeCase(ev, o);
     std::printf("inverse design: %s after %d iterations, %d evaluations: J %.3e -> %.3e, optimality %.2e; %d warm "
-                "starts from an accepted evaluation older than the newest\n",
+                "starts from an accepted evaluation older than the newest, %d from the previous iterate\n",
                 optimize::statusName(s.result.status), s.result.iterations, s.result.evaluations, first, s.J,
-                s.result.optimality, olderStarts);
+                s.result.optimality, olderStarts, previousStarts);
     EXPECT_EQ(s.result.status, optimize::Status::Converged) << s.result.message;
     EXPECT_GT(first, 1e-7);
     EXPECT_LT(s.J, 1e-12 * first);
@@ -414,6 +425,81 @@ TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
         }
     }
     EXPECT_EQ(values, 5);
+}
+
+// A history whose iterations another build numbered otherwise (here: iteration 2 at a point next
+// to the real one's, and one more iteration after the last, as the driver that took SLSQP's
+// rejected first trials for iterations wrote): the evaluations replay, and the history ends with
+// the iterations as this build reports them, each once, in order, at the points reported (those
+// after the first that differs too, though the file held them), none of the stale ones left.
+TEST(Optimization, AResumeRewritesIterationsNumberedOtherwise) {
+    const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/renumbered";
+    io::CaseFile c = shortRun(dir, 10, 4);
+    {
+        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+        study::OptimizationOptions o;
+        o.fresh = true;
+        (void)study::optimizeCase(ev, o);
+    }
+    const std::string jsonl = study::historyJsonlPath(c.optimization.history);
+    std::vector<std::string> lines;
+    int iterationsBefore = 0;
+    nlohmann::json last;
+    {
+        std::ifstream in(jsonl);
+        for (std::string line; std::getline(in, line);) {
+            nlohmann::json j = nlohmann::json::parse(line);
+            if (j.value("kind", "") == "iteration") {
+                ++iterationsBefore;
+                last = j;
+                if (j["iteration"] == 2) {
+                    j["x"][0] = j["x"][0].get<double>() + 1e-3;
+                    line = j.dump();
+                }
+            }
+            lines.push_back(line);
+        }
+    }
+    ASSERT_GE(iterationsBefore, 3);  // one replayed after the one that differs
+    last["iteration"] = last["iteration"].get<int>() + 1;
+    last["x"][1] = last["x"][1].get<double>() + 1e-3;
+    lines.push_back(last.dump());
+    {
+        std::ofstream out(jsonl, std::ios::trunc);
+        for (const std::string& line : lines) out << line << "\n";
+    }
+    c.optimization.maxEvaluations = 6;
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.resume = true;
+    std::vector<study::OptimizationRecord> reported;
+    o.onRecord = [&](const study::OptimizationRecord& r) {
+        if (r.kind == study::OptimizationRecord::Kind::Iteration) reported.push_back(r);
+    };
+    const study::OptimizationSummary s = study::optimizeCase(ev, o);
+    EXPECT_EQ(s.replayedEvaluations, 4);
+    std::vector<study::OptimizationRecord> written;
+    for (const auto& r : study::readHistory(jsonl)) {
+        if (r.kind == study::OptimizationRecord::Kind::Iteration) written.push_back(r);
+    }
+    ASSERT_EQ(written.size(), reported.size());
+    for (std::size_t k = 0; k < written.size(); ++k) {
+        EXPECT_EQ(written[k].index, reported[k].index) << k;
+        EXPECT_EQ(written[k].x, reported[k].x) << "iteration " << written[k].index;
+        if (k > 0) {
+            EXPECT_EQ(written[k].index, written[k - 1].index + 1);
+        }
+    }
+    // The iterations CSV too: one row per iteration, in order.
+    std::ifstream csv(s.iterationsCsv);
+    std::string header, line;
+    std::getline(csv, header);
+    int rows = 0;
+    while (std::getline(csv, line)) {
+        ++rows;
+        EXPECT_EQ(std::atoi(line.c_str()), written[rows - 1].index) << line;
+    }
+    EXPECT_EQ(rows, static_cast<int>(written.size()));
 }
 
 // The FFD model's own constraints (thickness at stations, the lattice Jacobian bound) reach the
