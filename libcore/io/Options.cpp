@@ -395,7 +395,7 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             [](O& c) -> double& { return c.maxEntropyRise; },
                             "flow continuity along the path: an evaluation whose flow converges with a largest "
                             "entropy error more than this many times that of the design it started from (the "
-                            "optimizer's current iterate) is reported to "
+                            "closer of the optimizer's last two iterates) is reported to "
                             "the optimizer as failed (status flow-unresolved), so the step is cut: a step between "
                             "nearby designs changes a flow continuously, and a jump by such a factor is a switch to "
                             "another steady state (typically a separated one), not the next point of the path; "
@@ -403,7 +403,7 @@ const std::vector<Option<OptimizationCase>>& optimizationOptions() {
                             "(docs/validation.md); 0: any rise"));
         o.push_back(choice<O>("warm_start_fallback", {"continuation", "free_stream", "none"},
                               [](O& c) -> std::string& { return c.warmStartFallback; },
-                              "what an evaluation does when its warm start from the optimizer's current iterate stalls "
+                              "what an evaluation does when its warm start from the design its step came from stalls "
                               "or diverges: continuation solves again from the free stream and then by "
                               "continuation in the dissipation (the most robust, and slow: on the 98k "
                               "sphere-to-BWB path 400-1,100 s per evaluation, ending on separated states); "
