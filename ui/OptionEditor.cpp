@@ -110,8 +110,12 @@ OptionEditor::OptionEditor(const io::OptionSpec& spec, QWidget* parent) : QObjec
             auto* box = new QComboBox(parent);
             for (const std::string& c : spec.choices) {
                 QString label = QString::fromStdString(c);
-                label.replace(QLatin1Char('_'), QLatin1Char(' '));
-                if (!label.isEmpty()) label[0] = label[0].toUpper();
+                if (c == "slsqp") {
+                    label = QStringLiteral("SLSQP");  // a name, spelled as its authors do
+                } else {
+                    label.replace(QLatin1Char('_'), QLatin1Char(' '));
+                    if (!label.isEmpty()) label[0] = label[0].toUpper();
+                }
                 box->addItem(label, QString::fromStdString(c));
             }
             connect(box, &QComboBox::activated, this, [this, box](int) {

@@ -729,6 +729,11 @@ void OptimizationWorkspaceTest::badInputIsExplained() {
     aero::ui::Document& doc = window_->document();
     QUndoStack* stack = doc.undoStack();
     const int undoBefore = stack->count();
+    // The optimizers by their names: the sample's SLSQP, and Ipopt.
+    auto* optimizer = qobject_cast<QComboBox*>(panel().editor("optimizer")->widget());
+    QVERIFY(optimizer);
+    QCOMPARE(optimizer->currentText(), QStringLiteral("SLSQP"));
+    QVERIFY(optimizer->findText(QStringLiteral("Ipopt"), Qt::MatchExactly) >= 0);
     // A problem the case cannot have, chosen in the panel: the pressure mismatch needs a target.
     // The window says why, and the panel shows the case's objective again.
     auto* objective = qobject_cast<QComboBox*>(panel().editor("objective")->widget());
