@@ -85,6 +85,13 @@ std::shared_ptr<int> failAwayFromStart(Problem& p, int count, double radius, con
     return failures;
 }
 
+// SLSQP on p, with the first variable of every iterate it reports.
+Result slsqpWithIterates(const Problem& p, std::vector<double>& iterates) {
+    Settings s;
+    s.onIteration = [&](const Iteration& it) { iterates.push_back(it.x[0]); };
+    return makeOptimizer("slsqp")->minimize(p, s);
+}
+
 class Optimizers : public ::testing::TestWithParam<std::string> {};
 
 }  // namespace
@@ -319,10 +326,8 @@ TEST(Slsqp, RestartsFromThePointBeforeARejectedTrial) {
         g.objective = {20 * x[0]};
         return g;
     };
-    Settings s;
     std::vector<double> iterates;
-    s.onIteration = [&](const Iteration& it) { iterates.push_back(it.x[0]); };
-    const Result r = makeOptimizer("slsqp")->minimize(p, s);
+    const Result r = slsqpWithIterates(p, iterates);
     std::string path;
     for (double x : *points) path += " " + std::to_string(x);
     EXPECT_EQ(r.status, Status::Converged) << r.message << ";" << path;
@@ -368,10 +373,8 @@ TEST(Slsqp, AFirstTrialTheLineSearchRejectsIsNoIterationThoughMoreFeasible) {
         g.constraints = {{1.0}};
         return g;
     };
-    Settings s;
     std::vector<double> iterates;
-    s.onIteration = [&](const Iteration& it) { iterates.push_back(it.x[0]); };
-    const Result r = makeOptimizer("slsqp")->minimize(p, s);
+    const Result r = slsqpWithIterates(p, iterates);
     std::string path;
     for (const auto& [x, withGradient] : *points) path += " " + std::to_string(x) + (withGradient ? "g" : "");
     std::string taken;

@@ -60,6 +60,16 @@ io::CaseFile shortRun(const std::string& dir, int maxIterations, int maxEvaluati
     return c;
 }
 
+// A short SLSQP run made at once (see shortRun); returns its case.
+io::CaseFile runShort(const std::string& dir, int maxIterations, int maxEvaluations) {
+    io::CaseFile c = shortRun(dir, maxIterations, maxEvaluations);
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::OptimizationOptions o;
+    o.fresh = true;
+    (void)study::optimizeCase(ev, o);
+    return c;
+}
+
 // The second evaluation of a short SLSQP run (3 iterations, 2 evaluations) of the small sample in
 // output folder `name`, the case changed by `configure` first, `onValues` called on each
 // evaluation's record as it is recorded (with the evaluator, e.g. to replace its warm state).
@@ -359,13 +369,7 @@ TEST(Optimization, AWarmStartBeyondItsBudgetIsAFailedStep) {
 // nearby converged flow, not from the free stream.
 TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/left_path";
-    io::CaseFile c = shortRun(dir, 10, 5);
-    {
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
-        study::OptimizationOptions o;
-        o.fresh = true;
-        (void)study::optimizeCase(ev, o);
-    }
+    io::CaseFile c = runShort(dir, 10, 5);
     const std::string jsonl = study::historyJsonlPath(c.optimization.history);
     std::vector<std::string> lines;
     {
@@ -434,13 +438,7 @@ TEST(Optimization, LeavingTheRecordedPathWarmStartsFromTheNewestStateLeft) {
 // after the first that differs too, though the file held them), none of the stale ones left.
 TEST(Optimization, AResumeRewritesIterationsNumberedOtherwise) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/renumbered";
-    io::CaseFile c = shortRun(dir, 10, 4);
-    {
-        study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
-        study::OptimizationOptions o;
-        o.fresh = true;
-        (void)study::optimizeCase(ev, o);
-    }
+    io::CaseFile c = runShort(dir, 10, 4);
     const std::string jsonl = study::historyJsonlPath(c.optimization.history);
     std::vector<std::string> lines;
     int iterationsBefore = 0;
