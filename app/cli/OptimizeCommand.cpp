@@ -214,6 +214,12 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
                        "--design %d OUT.json",
                        casePath.c_str(), s.bestEvaluation));
         }
+        if (s.nearlyFeasibleEvaluation > 0) {
+            say(format("best within 1e-3 of feasibility: evaluation %d, %s %.8g (infeasibility %.2e); as a case: "
+                       "aeroform-cli optimize %s --design %d OUT.json",
+                       s.nearlyFeasibleEvaluation, c.optimization.objective.c_str(), s.nearlyFeasibleJ,
+                       s.nearlyFeasibleInfeasibility, casePath.c_str(), s.nearlyFeasibleEvaluation));
+        }
         say(format("best planform: half-span %.4f, projected area %.4f, aspect ratio %.3f (start %.4f, %.4f, %.3f)",
                    s.planform.halfSpan, s.planform.projectedArea, s.planform.aspectRatio, s.startPlanform.halfSpan,
                    s.startPlanform.projectedArea, s.startPlanform.aspectRatio));
@@ -239,6 +245,11 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
             j["message"] = r.message;
             j["objective"] = c.optimization.objective;
             j["best_evaluation"] = s.bestEvaluation;
+            if (s.nearlyFeasibleEvaluation > 0) {
+                j["nearly_feasible_evaluation"] = s.nearlyFeasibleEvaluation;
+                j["nearly_feasible_J"] = s.nearlyFeasibleJ;
+                j["nearly_feasible_infeasibility"] = s.nearlyFeasibleInfeasibility;
+            }
             j["J"] = s.J;
             j["CL"] = s.forces.CL;
             j["CD"] = s.forces.CD;

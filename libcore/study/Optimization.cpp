@@ -39,11 +39,13 @@ namespace {
 constexpr double kCornerRatioRho = 50;  // the grid constraint's KS sharpness (io/Options.cpp documents it)
 constexpr double kWallBendRho = 1000;   // the wall-bend constraint's (on 1 - cos of the bend)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // The status of a converged flow refused by optimization.max_entropy or max_entropy_rise.
 constexpr const char* kUnresolved = "flow-unresolved";
 // Flow states kept on disk for warm starts besides the optimizer's last two iterates: the newest
 // accepted evaluations (a line search's trials, and the design each came from).
 constexpr std::size_t kKeptStates = 6;
+constexpr double kNearlyFeasible = 1e-3;  // OptimizationSummary::nearlyFeasibleEvaluation
 
 // The planform of an evaluated shape for the history (zeros when there is none: a design whose
 // lattice folded before its shape was built, or trimmed patches).
@@ -268,6 +270,9 @@ public:
         if (r.kind == Kind::Iteration) appendLine(iterations_, iterationRow(r), "history file");
     }
 
+    /// The values records by evaluation number.
+    const std::map<int, OptimizationRecord>& values() const { return values_; }
+
     /// The values record at x (the last evaluated there), or null.
     const OptimizationRecord* valuesAt(const std::vector<double>& x) const {
         for (auto it = values_.rbegin(); it != values_.rend(); ++it) {
@@ -389,6 +394,22 @@ int closestWarmStart(const std::vector<WarmCandidate>& candidates, const std::ve
         }
     }
     return best;
+}
+
+std::pair<int, double> nearlyFeasibleBest(const optimize::Problem& p, const std::vector<OptimizationRecord>& values,
+                                          double bestObjective, double tolerance) {
+    int found = 0;
+    double objective = 0, violation = 0;
+    for (const OptimizationRecord& r : values) {
+        if (r.kind != Kind::Values || !r.ok || r.x.size() != p.start.size()) continue;
+        const double h = optimize::feasibility(p, r.x, r.constraints);
+        if (h > tolerance && h <= kNearlyFeasible && r.objective < bestObjective && (found == 0 || r.objective < objective)) {
+            found = r.index;
+            objective = r.objective;
+            violation = h;
+        }
+    }
+    return {found, violation};
 }
 
 const char* recordKindName(Kind k) {
@@ -1145,12 +1166,24 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     summary.alphaDeg = alphaOf(best);
     summary.volume = model.volume(summary.values);
     summary.startPlanform = planformOf(model.deform(design(p.start)));
-    if (const OptimizationRecord* v = csv.valuesAt(best)) {
-        summary.bestEvaluation = v->index;
-        summary.J = v->J;
-        summary.forces.CL = v->CL;
-        summary.forces.CD = v->CD;
-        summary.forces.CM = v->CM;
+    const OptimizationRecord* bestRecord = csv.valuesAt(best);
+    if (bestRecord) {
+        summary.bestEvaluation = bestRecord->index;
+        summary.J = bestRecord->J;
+        summary.forces.CL = bestRecord->CL;
+        summary.forces.CD = bestRecord->CD;
+        summary.forces.CM = bestRecord->CM;
+    }
+    {
+        std::vector<OptimizationRecord> values;
+        for (const auto& [index, r] : csv.values()) values.push_back(r);
+        const auto [k, h] = nearlyFeasibleBest(p, values, bestRecord ? bestRecord->objective : kInfinity, oc.feasibilityTolerance);
+        if (const OptimizationRecord* r = k > 0 ? &csv.values().at(k) : nullptr) {
+            summary.nearlyFeasibleEvaluation = k;
+            summary.nearlyFeasibleObjective = r->objective;
+            summary.nearlyFeasibleJ = r->J;
+            summary.nearlyFeasibleInfeasibility = h;
+        }
     }
     if (summary.warmStarts > 0) summary.meanWarmFlowIterations /= summary.warmStarts;
     {

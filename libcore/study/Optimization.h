@@ -23,6 +23,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/Planform.h"
@@ -110,6 +111,13 @@ struct OptimizationSummary {
     int bestEvaluation = 0;              // the history's number of the best design's evaluation
                                          // (0: not in the history, e.g. a failed start)
     double J = 0, volume = 0;
+    /// The accepted evaluation of least objective among those that miss the feasibility tolerance
+    /// by at most 1e-3 (largest violation of a bound, row or constraint: the constraints are
+    /// ratios, Mach numbers, degrees), when it is better than the best design; 0: none. A run
+    /// stopped early along a constraint's boundary, as SLSQP's iterates are (feasible only as
+    /// they converge), has such designs; `--design N` writes one as a case.
+    int nearlyFeasibleEvaluation = 0;
+    double nearlyFeasibleObjective = 0, nearlyFeasibleJ = 0, nearlyFeasibleInfeasibility = 0;
     double startVolume = 0;              // of the case's own design: the volume constraint's
                                          // reference (the optimizer's start too, unless
                                          // optimization.start_design names another)
@@ -133,6 +141,13 @@ struct WarmCandidate {
 /// halfway between the design its step came from and a rejected full step starts from the
 /// former. 0 when there is no candidate.
 int closestWarmStart(const std::vector<WarmCandidate>& candidates, const std::vector<double>& x);
+
+/// Of the accepted evaluations in `values` that miss the feasibility `tolerance` by at most 1e-3
+/// (optimize::feasibility: the largest violation of a bound, row or constraint) and have an
+/// objective below `bestObjective`, the one of least objective: its evaluation number (0: none)
+/// and its violation. OptimizationSummary::nearlyFeasibleEvaluation.
+std::pair<int, double> nearlyFeasibleBest(const optimize::Problem& p, const std::vector<OptimizationRecord>& values,
+                                          double bestObjective, double tolerance);
 
 /// Runs the case's optimization section. Throws CaseError for a case without one (or without
 /// design variables), InputError for a history that cannot be read or written or belongs to

@@ -112,6 +112,36 @@ TEST(Optimization, AStepStartsFromTheClosestConvergedDesign) {
     EXPECT_EQ(study::closestWarmStart({{3, {0.5}}, path[1]}, {0.5, 0.0}), 2);
 }
 
+// The design a run stopped along a constraint's boundary has found: the accepted evaluation of
+// least objective that misses the tolerance by at most 1e-3 and beats the best feasible one.
+TEST(Optimization, TheBestNearlyFeasibleDesignIsNamed) {
+    optimize::Problem p;
+    p.start = {0.5};
+    p.lower = {0};
+    p.upper = {1};
+    p.nonlinear = {{"volume ratio", 1, std::numeric_limits<double>::infinity()}};
+    auto record = [](int index, bool ok, double c, double objective, double x = 0.5) {
+        study::OptimizationRecord r;
+        r.index = index;
+        r.ok = ok;
+        r.x = {x};
+        r.constraints = {c};
+        r.objective = objective;
+        return r;
+    };
+    const std::vector<study::OptimizationRecord> values = {
+        record(1, true, 1.0, -1),        // feasible: the best design
+        record(2, true, 0.9995, -3),     // 5e-4 short: the one
+        record(3, true, 0.99999, -2),    // 1e-5 short, but not as good
+        record(4, false, 1.0, -10),      // failed
+        record(5, true, 0.99, -5),       // 1e-2 short: too far
+        record(6, true, 1.0, -4, 1.5)};  // outside the variable's bound by 0.5
+    EXPECT_EQ(study::nearlyFeasibleBest(p, values, -1, 1e-6), std::make_pair(2, 1.0 - 0.9995));
+    EXPECT_EQ(study::nearlyFeasibleBest(p, values, -3.5, 1e-6).first, 0);  // none beats it
+    EXPECT_EQ(study::nearlyFeasibleBest(p, values, -1, 1e-3).first, 0);    // within the tolerance: feasible
+    EXPECT_EQ(study::nearlyFeasibleBest(p, {}, -1, 1e-6).first, 0);
+}
+
 TEST(Optimization, InverseDesignRecoversThePerturbedLatticePoints) {
     const std::string dir = std::string(AEROFORM_TEST_OUTPUT_DIR) + "/inverse_design";
     std::filesystem::create_directories(dir);
