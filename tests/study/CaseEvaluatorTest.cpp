@@ -378,22 +378,23 @@ TEST(CaseEvaluator, AWarmStartConvergingFastAtItsBudgetGoesOn) {
     shortRun.history.resize(w);
     EXPECT_EQ(study::warmStartFinish(shortRun, 1e-10), 0);
 
-    // In the pipeline: a step whose warm start takes more than the window, given a budget two
-    // iterations short of it, converges to the same forces with the extra iterations counted.
+    // In the pipeline: a step whose warm start takes more than the window, given a budget an
+    // iteration short of it, converges to the same forces with the extra iterations counted.
     study::CaseEvaluator ev(smallBlendedWing(), study::loadGeometry(smallBlendedWing().geometry));
     study::EvaluationRequest cold;
     cold.warmStart = false;
-    // From the half-sphere's flow to the sample blended wing: 13 warm iterations.
+    // From the half-sphere's flow to the sample blended wing: 12 warm iterations (13 before the
+    // step before the last solved further when that made it the last).
     const std::vector<double> sphere = study::scaledDesign(ev, 0.0), wing = ev.caseValues();
     ASSERT_TRUE(ev.evaluate(sphere, cold).ok());
     const study::Evaluation free = ev.evaluate(wing);
     ASSERT_TRUE(free.ok()) << free.message;
     ASSERT_TRUE(free.flow->warmStarted);
     std::printf("warm start without a budget: %d iterations\n", free.flow->report.iterations);
-    ASSERT_GT(free.flow->report.iterations, w + 2);
+    ASSERT_GT(free.flow->report.iterations, w + 1);
     ASSERT_TRUE(ev.evaluate(sphere, cold).ok());
     study::EvaluationRequest capped;
-    capped.warmIterations = free.flow->report.iterations - 2;
+    capped.warmIterations = free.flow->report.iterations - 1;  // longer than the window
     const study::Evaluation e = ev.evaluate(wing, capped);
     ASSERT_TRUE(e.ok()) << e.message;
     EXPECT_EQ(e.flow->budgetReport.iterations, *capped.warmIterations);
