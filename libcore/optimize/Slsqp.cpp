@@ -32,10 +32,9 @@ namespace {
 constexpr int kMaxRestarts = 60;
 constexpr double kBoxProgress = 1e-3;  // relative objective gain per iteration on the box's face
 
-// The point a restart starts from, its objective and infeasibility (at least the tolerance).
+// The point a restart starts from: the last iteration of all runs.
 struct Accepted {
     std::vector<double> x;
-    double objective = 0, infeasibility = 0;
 };
 
 struct Run {
@@ -83,10 +82,8 @@ bool samePoint(const double* x, const std::vector<double>& y, unsigned n) {
 void take(Run& r) {
     const std::vector<double> x = std::move(r.pending);
     r.pending.clear();
-    const Values* v = r.t.values(x.data());
-    const Problem& p = r.t.problem();
-    const double h = std::max(feasibility(p, x, v->constraints), r.t.settings().feasibilityTolerance);
-    r.accepted = {x, v->objective, h};
+    const Values* v = r.t.values(x.data());  // cached: nothing was evaluated since
+    r.accepted.x = x;
     if (r.t.iterate(++r.iteration, x.data())) {
         r.converged = true;
         throw nlopt::forced_stop();
