@@ -806,12 +806,12 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     // Gives the evaluator the state of the design the step to u came from: of the optimizer's last
     // two iterates, the one closer to u (else, before the first iterate or when its state is gone,
     // that of the kept evaluation closest to u); returns that evaluation (0: none, a cold start).
-    // The previous iterate counts because a line search can run from it: SLSQP's driver takes a
-    // first trial that is better in feasibility but worse in objective for an iteration, and when
-    // SLSQP's merit function rejects it, the next trials lie between the two, closer to the
-    // previous one (the thirty-sixth session's Figure 4 run: six trials within 3e-4 to 3e-9 of
-    // it, all started from the rejected trial's flow, all on its branch at L/D 1.945 against the
-    // previous iterate's 2.028, and the line search could not succeed). A candidate whose
+    // The previous iterate counts because a line search can run from it when an optimizer reports
+    // a trial as its iterate before the line search rejects it: the next trials then lie between
+    // the two, closer to the previous one. (SLSQP's driver did so until the thirty-sixth session;
+    // on its Figure 4 run six such trials, within 3e-4 to 3e-9 of the previous iterate, all
+    // started from the rejected trial's flow and stayed on its branch, L/D 1.945 against the
+    // previous iterate's 2.028, so the line search could not succeed.) A candidate whose
     // file is gone (a history of an older build kept only the newest two) is dropped; when none
     // is left, the newest state in the folder, a nearby converged flow of a discarded evaluation,
     // is a better start than the free stream.
