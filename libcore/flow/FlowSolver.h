@@ -154,6 +154,10 @@ struct NewtonOptions {
                                        // solves only to half that factor (capped here) instead of
                                        // linearTolerance (the 75k half-sphere's last step: 34
                                        // GMRES iterations for a factor of 2.4; docs/performance.md).
+                                       // The step before solves to half the factor needed when
+                                       // that is 1 to 8 times tighter than linearTolerance and
+                                       // its own predecessor followed its forcing term, so that it
+                                       // is the last (FlowSolver.cpp, kReachInOneStep).
                                        // 0: always linearTolerance
     int preconditionerParts = 2;       // > 1: the ILU factors and solves this many groups of mesh
                                        // blocks in parallel, their coupling kept through a
