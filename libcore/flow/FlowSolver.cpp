@@ -251,7 +251,7 @@ GmresReport StepSystem::solve(const double* r, double* dq, double tolerance) {
     // GMRES gives up once it cannot reach linearFailure at its rate so far: the step would be
     // rejected anyway (on the 75k half-sphere a failing solve took 120 iterations, 37 s).
     const GmresOptions go{n_.gmresRestart, n_.gmresMaxIterations, tolerance, n_.linearFailure,
-                          n_.gmresDeflation, n_.gmresSingleBasis || lowMemory_};
+                          n_.gmresDeflation, n_.gmresSingleBasis || lowMemory_, n_.gmresReorthogonalizeBelow};
     for (long i = 0; i < n; ++i) rhs_[i] = -r[i];
     std::fill(dq, dq + n, 0.0);
     return gmres(n, A, M, rhs_.data(), dq, go, &krylov_);

@@ -57,6 +57,12 @@ struct NewtonOptions {
                                        // but a different path on hard designs (one random design
                                        // of the robustness suite stalls with it); opt-in below
                                        // lowMemoryNodes, always on from there (docs/performance.md)
+    double gmresReorthogonalizeBelow = 0.1;  // a Newton step's Gram-Schmidt pass is repeated
+                                       // where it left the new vector shorter than this fraction
+                                       // of its length (GmresOptions::reorthogonalizeBelow): at a
+                                       // Newton step's tolerance a second pass is needed only
+                                       // after such a cancellation (the adjoint keeps DGKS's 0.71;
+                                       // docs/performance.md)
     IluPrecision iluPrecision = IluPrecision::Single;  // storage of the preconditioner's
                                        // factors; Bfloat16 halves their memory (0.75 GB on the
                                        // 903k paper grid) with the same iterations on the samples,

@@ -44,10 +44,11 @@ double dot(long n, const double* a, const double* b, std::vector<double>& partia
 
 // Classical Gram-Schmidt against the k vectors V[0..k): h = V^T w, w -= V h, repeated once when
 // the first pass cancelled most of w (the Daniel-Gragg-Kaufman-Stewart test: ||w|| fell below
-// 1/sqrt(2) of its length before; "twice is enough"). Returns ||w||. Each pass is one sweep over
-// the basis for the dot products and one for the update, in fixed row chunks.
+// `below` of its length before; 1/sqrt(2): "twice is enough"). Returns ||w||. Each pass is one
+// sweep over the basis for the dot products and one for the update, in fixed row chunks.
 template <class B>
-double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double* h, std::vector<double>& partial) {
+double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double* h, std::vector<double>& partial,
+                     double below) {
     const long chunks = chunkCount(n);
     const int width = k + 1;  // k dot products and the squared norm
     partial.assign(static_cast<std::size_t>(chunks * width), 0.0);
@@ -125,7 +126,7 @@ double orthogonalize(long n, const std::vector<B*>& V, int k, double* w, double*
     const double before = g[k];
     for (int i = 0; i < k; ++i) total[i] += g[i];
     double after = subtract();
-    if (after < 0.5 * before) {  // ||w|| fell below 1/sqrt(2) of its length: once more
+    if (after < below * below * before) {  // ||w|| fell below `below` of its length: once more
         project();
         for (int i = 0; i < k; ++i) total[i] += g[i];
         after = subtract();
@@ -386,7 +387,7 @@ GmresReport gmresWith(long n, const LinearMap& A, const LinearMap& M, const doub
                 } else {
                     A(V[j], V[j + 1]);
                 }
-                hn = orthogonalize(n, V, j + 1, V[j + 1], h.data(), partial);
+                hn = orthogonalize(n, V, j + 1, V[j + 1], h.data(), partial, o.reorthogonalizeBelow);
                 if (hn > 0) scale(n, V[j + 1], 1.0 / hn);
             } else {
                 widen(V[j], w);
@@ -397,7 +398,7 @@ GmresReport gmresWith(long n, const LinearMap& A, const LinearMap& M, const doub
                     A(w, z);
                     std::swap(w, z);
                 }
-                hn = orthogonalize(n, V, j + 1, w, h.data(), partial);
+                hn = orthogonalize(n, V, j + 1, w, h.data(), partial, o.reorthogonalizeBelow);
                 store(w, hn > 0 ? 1.0 / hn : 0.0, V[j + 1]);
             }
             for (int i = 0; i <= j; ++i) Hbar(i, j) = h[i];

@@ -4,7 +4,10 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <random>
+#include <string>
 
 #include "RandomVector.h"
 #include "flow/BlockIlu.h"
@@ -426,6 +429,62 @@ TEST(Gmres, SingleBasisReachesTheSameAccuracy) {
                     deflation, d.iterations, s.iterations, bd.iterations, bs.iterations, loose.iterations,
                     looseSingle.iterations);
     }
+}
+
+// The flow's Newton steps repeat a Gram-Schmidt pass only where the first cancelled 90 % of the
+// new vector (GmresOptions::reorthogonalizeBelow 0.1), and a single pass always is the limit of
+// that: at a Newton step's tolerances both solve as far as the DGKS GMRES in as many products,
+// to a true residual at their tolerance, with either basis and with deflated restarts (a random
+// grid system and Morgan's bidiagonal matrix, unpreconditioned); and they are other computations
+// (DGKS's second pass ran, so the iterates differ).
+TEST(Gmres, FewerGramSchmidtPassesServeANewtonStepsTolerance) {
+    const GridSystem g;
+    const long gn = kBlock * g.A.rows;
+    const long n = 1000;  // Morgan's bidiagonal matrix with five small eigenvalues, as above
+    std::vector<double> diag(n);
+    for (long i = 0; i < n; ++i) diag[i] = i < 5 ? 0.1 * (i + 1) : static_cast<double>(i - 4);
+    const LinearMap B = [&](const double* in, double* out) {
+        for (long i = 0; i < n; ++i) out[i] = diag[i] * in[i] + (i + 1 < n ? 0.2 * in[i + 1] : 0.0);
+    };
+    const std::vector<double> ones(n, 1.0);
+    auto trueResidual = [](long size, const LinearMap& op, const std::vector<double>& x, const std::vector<double>& rhs) {
+        std::vector<double> ax(size);
+        op(x.data(), ax.data());
+        double r = 0, s = 0;
+        for (long i = 0; i < size; ++i) r += (rhs[i] - ax[i]) * (rhs[i] - ax[i]), s += rhs[i] * rhs[i];
+        return std::sqrt(r / s);
+    };
+    bool differs = false;
+    for (bool once10 : {true, false}) {
+        for (double tolerance : {0.05, 1e-3}) {
+            for (int deflation : {0, 6}) {
+                for (bool single : {false, true}) {
+                    const GmresOptions twice{20, 2000, tolerance, 0.0, deflation, single, 0.7071067811865476};
+                    const GmresOptions once{20, 2000, tolerance, 0.0, deflation, single, once10 ? 0.1 : 0.0};
+                    const std::string what = std::string(once10 ? "below 0.1" : "one pass") + ", tolerance " +
+                                             std::to_string(tolerance) + ", deflation " +
+                                             std::to_string(deflation) + (single ? ", float basis" : ", double basis");
+                    std::vector<double> x2(gn, 0.0), x1(gn, 0.0);
+                    // Without its ILU: the preconditioned system converges in one product.
+                    const GmresReport r2 = gmres(gn, g.product, {}, g.b.data(), x2.data(), twice);
+                    const GmresReport r1 = gmres(gn, g.product, {}, g.b.data(), x1.data(), once);
+                    EXPECT_TRUE(r1.converged) << what;
+                    EXPECT_LE(r1.iterations, r2.iterations + 1) << what;
+                    EXPECT_LT(trueResidual(gn, g.product, x1, g.b), 1.01 * tolerance) << what;
+                    std::vector<double> y2(n, 0.0), y1(n, 0.0);
+                    const GmresReport b2 = gmres(n, B, {}, ones.data(), y2.data(), twice);
+                    const GmresReport b1 = gmres(n, B, {}, ones.data(), y1.data(), once);
+                    EXPECT_TRUE(b1.converged) << what;
+                    EXPECT_LE(b1.iterations, b2.iterations + 2) << what;
+                    EXPECT_LT(trueResidual(n, B, y1, ones), 1.01 * tolerance) << what;
+                    differs = differs || y1 != y2 || x1 != x2;
+                    std::printf("%s: grid system %d / %d products, bidiagonal %d / %d (DGKS / fewer passes)\n", what.c_str(),
+                                r2.iterations, r1.iterations, b2.iterations, b1.iterations);
+                }
+            }
+        }
+    }
+    EXPECT_TRUE(differs) << "the option changed nothing: the second pass never ran";
 }
 
 TEST(Gmres, AFloatBasisUsesLentStorageWhenItIsLargeEnough) {
