@@ -34,14 +34,13 @@ struct GmresOptions {
                                // the orthogonalization's memory traffic; the products, the
                                // Gram-Schmidt sums, x and the residual at each restart stay
                                // double, so a restart recovers full accuracy (docs/performance.md)
-    double reorthogonalizeBelow = 0.7071067811865476;  // the Gram-Schmidt pass is repeated where it left the
-                               // new vector shorter than this fraction of its length (the DGKS
-                               // test; 1/sqrt 2: "twice is enough"). The flow's Newton steps use
-                               // 0.1, a second pass only where the first cancelled 90 % of the
-                               // vector: at their loose tolerances the same iterations on the 75k
-                               // and 98k samples with 0.6 times the sweeps over the basis, where a
-                               // single pass always (PETSc's default) let a restarted solve's
-                               // true residual drift from its estimate (docs/performance.md)
+    // The Gram-Schmidt pass is repeated where it left the new vector shorter than this fraction
+    // of its length (the DGKS test; 1/sqrt 2: "twice is enough"). The flow's Newton steps use
+    // 0.1, a second pass only where the first cancelled 90 % of the vector: at their loose
+    // tolerances the same iterations on the 75k and 98k samples with 0.6 times the sweeps over
+    // the basis, where a single pass always (PETSc's default) let a restarted solve's true
+    // residual drift from its estimate (docs/performance.md).
+    double reorthogonalizeBelow = 0.7071067811865476;
 };
 
 struct GmresReport {
