@@ -13,8 +13,9 @@ int runCli(int argc, char** argv);
 /// OpenMP threads that spin while they wait steal the cores the rest of the machine needs; on a
 /// shared or oversubscribed 2-core machine that makes the flow solver many times slower. The
 /// runtime reads OMP_WAIT_POLICY before main, so when the user has not chosen a policy this sets
-/// "passive" and executes the program again with the same arguments (once; an explicit setting
-/// is always respected). Returns only when no restart was needed or it failed.
+/// "passive" (with a short spin, GOMP_SPINCOUNT 3000, unless the user set one) and executes the
+/// program again with the same arguments (once; an explicit setting is always respected).
+/// Returns only when no restart was needed or it failed.
 void ensurePassiveOpenMpWaiting(char** argv);
 
 /// Headless run of a case or geometry file (what `aeroform --batch FILE` does).

@@ -134,22 +134,56 @@ void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const Block
     }
 }
 
+// (F*(q, qOther, n, n) - F_n(q)) / H_n, the increment addSat adds, into inc.
+template <class T>
+void satIncrement(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const FreeStream& fs, T* inc) {
+    T fstar[kVars], fn[kVars];
+    flux(q, qOther, n, n, fs, fstar);
+    normalFlux(q, n, fs.gamma, fn);
+    for (int v = 0; v < kVars; ++v) inc[v] = 2.0 * (fstar[v] - fn[v]);
+}
+
+// Every interface node pair's two SATs in one parallel loop over all patches, then added to r in
+// patch order on one thread. A node on a block edge or corner lies in several patches, so the
+// patches cannot be summed in parallel; a parallel loop per patch instead woke the thread team
+// once per patch (36 times per residual on the 20-block half-sphere: with passive OpenMP waiting
+// three quarters of the flow solve's context switches). The increments and the order of the sums
+// are those of adding each SAT where it is computed.
 template <class T>
 void interfaceTerm(const FlowMesh& fm, const T* metrics, const T* q, const FreeStream& fs,
                    InviscidScheme scheme, T* r) {
     const BoundaryFluxFn<T> flux = boundaryFlux<T>(mesh::BoundaryKind::Interface, scheme);
-    for (const InterfacePatch& ip : fm.interfaces) {
+    const long patches = static_cast<long>(fm.interfaces.size());
+    std::vector<long> first(patches + 1, 0);
+    for (long p = 0; p < patches; ++p) first[p + 1] = first[p] + static_cast<long>(fm.interfaces[p].nodes.size());
+    const long pairs = first[patches];
+    thread_local std::vector<T> increments;
+    increments.resize(2 * kVars * static_cast<std::size_t>(pairs));
+    T* inc = increments.data();
+#pragma omp parallel for schedule(static)
+    for (long p = 0; p < patches; ++p) {
+        const InterfacePatch& ip = fm.interfaces[p];
         const long offA = fm.blocks[ip.blockA].offset, offB = fm.blocks[ip.blockB].offset;
-        const long count = static_cast<long>(ip.nodes.size());
-        // Within one patch every node appears once per side (unless a block meets itself).
-#pragma omp parallel for schedule(static) if (ip.blockA != ip.blockB)
-        for (long a = 0; a < count; ++a) {
-            const long na = offA + ip.nodes[a][0], nb = offB + ip.nodes[a][1];
+        for (long a = first[p]; a < first[p + 1]; ++a) {
+            const auto& pair = ip.nodes[a - first[p]];
+            const long na = offA + pair[0], nb = offB + pair[1];
             T n[3];
             outwardNormal(metrics + kMetricWidth * na, ip.faceA, n);
-            addSat(flux, q + kVars * na, q + kVars * nb, n, n, fs, r + kVars * na);
+            satIncrement(flux, q + kVars * na, q + kVars * nb, n, fs, inc + 2 * kVars * a);
             outwardNormal(metrics + kMetricWidth * nb, ip.faceB, n);
-            addSat(flux, q + kVars * nb, q + kVars * na, n, n, fs, r + kVars * nb);
+            satIncrement(flux, q + kVars * nb, q + kVars * na, n, fs, inc + 2 * kVars * a + kVars);
+        }
+    }
+    for (long p = 0; p < patches; ++p) {
+        const InterfacePatch& ip = fm.interfaces[p];
+        const long offA = fm.blocks[ip.blockA].offset, offB = fm.blocks[ip.blockB].offset;
+        for (long a = first[p]; a < first[p + 1]; ++a) {
+            const auto& pair = ip.nodes[a - first[p]];
+            T* ra = r + kVars * (offA + pair[0]);
+            T* rb = r + kVars * (offB + pair[1]);
+            const T* ia = inc + 2 * kVars * a;
+            for (int v = 0; v < kVars; ++v) ra[v] += ia[v];
+            for (int v = 0; v < kVars; ++v) rb[v] += ia[kVars + v];
         }
     }
 }
