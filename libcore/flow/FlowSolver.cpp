@@ -528,7 +528,7 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
             ownResidual();
             return finish(FlowStatus::Diverged, "diverged: residual grew to " + sci(Rn / R0) + " times the initial one");
         }
-        if (Rn < 0.99 * best || cfl > 1.01 * cflHigh) {
+        if (Rn < 0.99 * best || (cfl > 1.01 * cflHigh && cfl < opt.stallCflCeiling)) {
             // Progress: a new best residual, or pseudo-time still advancing with a growing CFL
             // (the transient of a fine grid can raise ||R|| for 40 iterations of full steps).
             best = std::min(best, Rn);

@@ -103,6 +103,13 @@ struct NewtonOptions {
                                        // 50 was tried on the stalled random designs of the 98k
                                        // grid: none converged, each failure cost 1.5-5.6x the
                                        // time (docs/validation.md); flow.stall_iterations sets it
+    double stallCflCeiling = 1e6;     // a new highest CFL counts as progress only below this: above
+                                       // it the steps are Newton's and pseudo-time no longer moves,
+                                       // so a growing CFL there is no sign of a transient. Without it
+                                       // a design of the robustness suite cycled between relative
+                                       // residuals 1e-4 and 1e-2 for 120 iterations while its CFL
+                                       // climbed from 1e6 to the cap, before the stall handed it to
+                                       // the dissipation continuation (docs/validation.md)
     int maxRejections = 8;             // steps rejected in a row (CFL cut by 10 each) before giving up
     int iluFill = 1;                   // level of fill of the block ILU preconditioner (ILU(2)
                                        // halves GMRES iterations but doubles the factor cost)

@@ -183,7 +183,12 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "this much work and continues with --restart (0: after every iteration)"));
         o.push_back(integer<FlowCase>("stall_iterations", 2, 100000,
                                       [](FlowCase& c) -> int& { return c.newton.stallIterations; },
-                                      "stop as stalled after this many iterations without a new best residual or a new highest CFL"));
+                                      "stop as stalled after this many iterations without a new best residual or a new highest CFL "
+                                      "below stall_cfl_ceiling"));
+        o.push_back(real<FlowCase>("stall_cfl_ceiling", "", 1, true, 1e12, true,
+                                   [](FlowCase& c) -> double& { return c.newton.stallCflCeiling; },
+                                   "a new highest CFL counts as progress against stall_iterations only below this (above "
+                                   "it the steps are Newton's: a CFL still growing there is no transient)"));
         o.push_back(integer<FlowCase>("exact_recovery_iterations", 0, 100000,
                                       [](FlowCase& c) -> int& { return c.newton.recoveryIterations; },
                                       "after a Newton step's linear solve fails, the Newton steps that follow have this many "

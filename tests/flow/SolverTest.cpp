@@ -455,6 +455,15 @@ TEST(FlowSolver, ReportsAStallWhenNeitherTheResidualNorTheCflMoves) {
     EXPECT_EQ(twice.switchedAt, n.stallIterations + 2);
     EXPECT_EQ(twice.iterations, 2 * n.stallIterations + 1);
     EXPECT_NE(twice.message.find("no progress in 6 iterations"), std::string::npos) << twice.message;
+    // A new highest CFL at or above stallCflCeiling is no progress: with the ceiling below the
+    // first step's CFL that step no longer opens the window, so the stall comes one step sooner.
+    n.switchContinuation = 0;
+    n.stallCflCeiling = 0.5 * n.cfl0;
+    q = start;
+    const FlowReport capped = solve(box, o, q, n);
+    EXPECT_EQ(capped.status, FlowStatus::Stalled) << capped.message;
+    EXPECT_EQ(capped.iterations, n.stallIterations);
+    EXPECT_GE(capped.history.front().cfl, n.stallCflCeiling);
 }
 
 TEST(CflLaw, ARejectedAttemptCutsTheCflActuallyUsedEvenNearConvergence) {
