@@ -415,8 +415,9 @@ void ensurePassiveOpenMpWaiting(char** argv) {
     setenv("OMP_WAIT_POLICY", "passive", 1);
     // A short spin before a thread sleeps (libgomp's count of pause instructions; passive alone
     // is 0): a flow solve's threads meet 30-40 times per GMRES iteration, and on this VM each
-    // sleep and wake-up costs tens of microseconds. 3000 took 0.93x the time of 0 on the idle
-    // machine and the same with a busy process beside it; 30000 took 1.47x there (docs/performance.md).
+    // sleep and wake-up costs tens of microseconds. 3000 took 0.81-0.96x the time of 0 on the
+    // idle machine and the same with a busy process beside it; 30000 took 1.46x there
+    // (docs/performance.md).
     setenv("GOMP_SPINCOUNT", "3000", 0);
     execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
 }

@@ -103,7 +103,7 @@ struct NewtonOptions {
                                        // 50 was tried on the stalled random designs of the 98k
                                        // grid: none converged, each failure cost 1.5-5.6x the
                                        // time (docs/validation.md); flow.stall_iterations sets it
-    double stallCflCeiling = 1e6;     // a new highest CFL counts as progress only below this: above
+    double stallCflCeiling = 1e6;      // a new highest CFL counts as progress only below this: above
                                        // it the steps are Newton's and pseudo-time no longer moves,
                                        // so a growing CFL there is no sign of a transient. Without it
                                        // a design of the robustness suite cycled between relative
