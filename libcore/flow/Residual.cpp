@@ -103,14 +103,23 @@ void entropyConservativeTerm(const BlockView<const T>& q, const BlockView<const 
     }
 }
 
-// (F*(q, qOther, n, nhat) - F_n(q)) / H_n added to rn; H_n = 1/2 at every face node.
+// The SAT (F*(q, qOther, n, nhat) - F_n(q)) / H_n into inc; H_n = 1/2 at every face node.
 template <class T>
-void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const T* nhat,
-            const FreeStream& fs, T* rn) {
+void satIncrement(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const T* nhat,
+                  const FreeStream& fs, T* inc) {
     T fstar[kVars], fn[kVars];
     flux(q, qOther, n, nhat, fs, fstar);
     normalFlux(q, n, fs.gamma, fn);
-    for (int v = 0; v < kVars; ++v) rn[v] += 2.0 * (fstar[v] - fn[v]);
+    for (int v = 0; v < kVars; ++v) inc[v] = 2.0 * (fstar[v] - fn[v]);
+}
+
+// The SAT added to rn.
+template <class T>
+void addSat(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const T* nhat,
+            const FreeStream& fs, T* rn) {
+    T inc[kVars];
+    satIncrement(flux, q, qOther, n, nhat, fs, inc);
+    for (int v = 0; v < kVars; ++v) rn[v] += inc[v];
 }
 
 template <class T>
@@ -132,15 +141,6 @@ void boundaryTerm(const FlowBlock& blk, const BlockView<const T>& q, const Block
             addSat(flux, q.at(node), static_cast<const T*>(nullptr), n, nhat, fs, r.at(node));
         }
     }
-}
-
-// (F*(q, qOther, n, n) - F_n(q)) / H_n, the increment addSat adds, into inc.
-template <class T>
-void satIncrement(BoundaryFluxFn<T> flux, const T* q, const T* qOther, const T* n, const FreeStream& fs, T* inc) {
-    T fstar[kVars], fn[kVars];
-    flux(q, qOther, n, n, fs, fstar);
-    normalFlux(q, n, fs.gamma, fn);
-    for (int v = 0; v < kVars; ++v) inc[v] = 2.0 * (fstar[v] - fn[v]);
 }
 
 // Every interface node pair's two SATs in one parallel loop over all patches, then added to r in
@@ -169,9 +169,9 @@ void interfaceTerm(const FlowMesh& fm, const T* metrics, const T* q, const FreeS
             const long na = offA + pair[0], nb = offB + pair[1];
             T n[3];
             outwardNormal(metrics + kMetricWidth * na, ip.faceA, n);
-            satIncrement(flux, q + kVars * na, q + kVars * nb, n, fs, inc + 2 * kVars * a);
+            satIncrement(flux, q + kVars * na, q + kVars * nb, n, n, fs, inc + 2 * kVars * a);
             outwardNormal(metrics + kMetricWidth * nb, ip.faceB, n);
-            satIncrement(flux, q + kVars * nb, q + kVars * na, n, fs, inc + 2 * kVars * a + kVars);
+            satIncrement(flux, q + kVars * nb, q + kVars * na, n, n, fs, inc + 2 * kVars * a + kVars);
         }
     }
     for (long p = 0; p < patches; ++p) {
