@@ -386,7 +386,8 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                           since(t0), e.secondsFlow, sequencingSeconds, rep.seconds, peak);
         }
         say(buf);
-        if (rep.status == flow::FlowStatus::Cancelled) {
+        if (rep.status == flow::FlowStatus::Cancelled ||
+            (rep.status == flow::FlowStatus::TimeLimit && fr.dissipationStages.empty())) {
             say("continue with: aeroform-cli flow " + casePath + " --restart " + restartTo);
         }
         return rep.converged() && adjointsOk ? kOk : kFailed;

@@ -32,6 +32,12 @@ std::string sci(double x) {
     return buf;
 }
 
+std::string fixedSeconds(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g s", s);
+    return buf;
+}
+
 // Relative change of density and pressure per node for the step dq (the larger of the two).
 void relativeChanges(long nodes, const double* q, const double* dq, double gamma, std::vector<double>& out) {
     out.resize(nodes);
@@ -61,6 +67,8 @@ const char* flowStatusName(FlowStatus s) {
             return "nan";
         case FlowStatus::Cancelled:
             return "cancelled";
+        case FlowStatus::TimeLimit:
+            return "time-limit";
     }
     return "unknown";
 }
@@ -379,6 +387,12 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         if (cancel && cancel->load()) {
             ownResidual();
             return finish(FlowStatus::Cancelled, "cancelled after " + std::to_string(rep.iterations) + " iterations");
+        }
+        if (opt.maxSeconds > 0 && elapsed() >= opt.maxSeconds) {
+            ownResidual();
+            return finish(FlowStatus::TimeLimit, "stopped by the time limit after " + std::to_string(rep.iterations) +
+                                                     " iterations (" + fixedSeconds(elapsed()) + "): relative residual " +
+                                                     sci(Rn / R0));
         }
         const double cfl = law.next(Rn, R0);
         bool exact = newton || (!approximateAfterFailure && Rn <= opt.exactBelow * R0);

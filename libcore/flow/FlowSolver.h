@@ -30,6 +30,10 @@ struct NewtonOptions {
     double relativeTolerance = 1e-10;  // stop when ||R|| <= tol ||R0||
     double absoluteTolerance = 1e-14;  // ... or ||R|| (L2 over all nodes) <= this
     int maxIterations = 300;           // nonlinear iterations (accepted or rejected)
+    double maxSeconds = 0;             // > 0: the solve stops (FlowStatus::TimeLimit) before an
+                                       // iteration once this much wall time has passed since it
+                                       // began (the case's flow.max_seconds, shared by the stage's
+                                       // solves: study::CaseEvaluator)
     double cfl0 = 2.0;                 // initial CFL
     double cflGrowth = 1.2;            // CFL base grows by this after every full step
     double cflExponent = 1.0;          // CFL = base max(1, (R0/R)^beta)
@@ -181,7 +185,7 @@ struct NewtonOptions {
                                        // natural order, sequential (docs/performance.md)
 };
 
-enum class FlowStatus { Converged, MaxIterations, Stalled, Diverged, NotANumber, Cancelled };
+enum class FlowStatus { Converged, MaxIterations, Stalled, Diverged, NotANumber, Cancelled, TimeLimit };
 const char* flowStatusName(FlowStatus s);
 
 struct FlowIteration {

@@ -68,6 +68,8 @@ struct FlowCase {
                                       // added while the coarsest has this many (docs/validation.md)
     bool stallModes = true;           // a solve that does not converge looks for the linear modes
                                       // that grow in pseudo time at its final state (the reason)
+    double maxSeconds = 0;            // > 0: the flow stage's wall-time budget, all its solves
+                                      // together (flow.max_seconds; CaseEvaluator)
     double checkpointSeconds = 60;    // `aeroform-cli flow` writes its restart file at most this
                                       // often during the solve (0: every iteration)
 };

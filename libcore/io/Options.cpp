@@ -176,6 +176,12 @@ const std::vector<Option<FlowCase>>& flowOptions() {
                                    "residual on the grid, or to the first run's when restarted)"));
         o.push_back(integer<FlowCase>("max_iterations", 1, 100000, [](FlowCase& c) -> int& { return c.newton.maxIterations; },
                             "nonlinear iterations"));
+        o.push_back(real<FlowCase>("max_seconds", "seconds", 0, true, 1e9, true,
+                                   [](FlowCase& c) -> double& { return c.maxSeconds; },
+                                   "wall time the flow stage may take with all its solves (grid sequencing, the retries "
+                                   "from the free stream, the continuation in the dissipation); when it is spent the solve "
+                                   "stops with status time-limit and no further retry or mode analysis starts (an "
+                                   "optimizer counts the evaluation as failed; 0: no limit)"));
         o.push_back(real<FlowCase>("checkpoint_seconds", "seconds", 0, true, 1e9, true,
                                    [](FlowCase& c) -> double& { return c.checkpointSeconds; },
                                    "during a solve, `aeroform-cli flow` writes its restart file (output.restart, or "

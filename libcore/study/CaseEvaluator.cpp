@@ -396,6 +396,14 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
 
     flow::NewtonOptions no = case_.flow.newton;
     const long n = 5 * f->mesh.nodeCount;
+    // flow.max_seconds is the stage's budget: every solve gets what is left of it, and once it is
+    // spent no retry, continuation stage or mode analysis starts.
+    const double budget = case_.flow.maxSeconds;
+    auto timeUp = [&] { return budget > 0 && since(t) >= budget; };
+    auto limited = [&](flow::NewtonOptions o) {
+        if (budget > 0) o.maxSeconds = std::max(budget - since(t), 1e-9);
+        return o;
+    };
     // Relative tolerances always refer to the free stream's residual on this grid, so a warm or
     // sequenced start converges to the same absolute level as a cold one.
     std::vector<double> q;
@@ -515,7 +523,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                        k == 0 ? "half" : k == 1 ? "a quarter of" : "1/8 or less of",
                        lq.empty() ? ", from the free stream" : ""));
             FlowResult::SequencingLevel result{level.flow.nodeCount,
-                                               flow::solveFlow(level.flow, level.metrics, ro, lq, cno, onIteration(true, done), cancel)};
+                                               flow::solveFlow(level.flow, level.metrics, ro, lq, limited(cno),
+                                                               onIteration(true, done), cancel)};
             done += result.report.iterations;
             const flow::FlowStatus status = result.report.status;
             const std::string message = result.report.message;
@@ -571,7 +580,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     flow::NewtonOptions first = no;
     const bool warmCapped = f->warmStarted && request.warmIterations && *request.warmIterations < no.maxIterations;
     if (warmCapped) first.maxIterations = std::max(1, *request.warmIterations);
-    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, first, onIteration(false), cancel, checkpoint);
+    f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, limited(first), onIteration(false), cancel, checkpoint);
     const int budgetIterations = f->report.iterations;  // accepted ones (rejected attempts count against the budget)
     if (warmCapped)
         f->report = extendWarmStart(
@@ -580,7 +589,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                 flow::NewtonOptions rest = no;
                 rest.maxIterations = more;
                 if (cfl > 0) rest.cfl0 = cfl;
-                return flow::solveFlow(f->mesh, f->metrics, ro, q, rest, onIteration(false), cancel, checkpoint);
+                return flow::solveFlow(f->mesh, f->metrics, ro, q, limited(rest), onIteration(false), cancel, checkpoint);
             },
             [&](int more, double relative) {
                 say(format("the warm start's %s is spent while it converges (relative residual %.3g): %d more",
@@ -592,7 +601,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     // A warm start cut by the request's budget failed as a stall does (the retries have the case's).
     const bool failed = st == flow::FlowStatus::Stalled || st == flow::FlowStatus::Diverged || st == flow::FlowStatus::NotANumber ||
                         (warmCapped && st == flow::FlowStatus::MaxIterations);
-    if (f->warmStarted && request.coldRetry && failed) {
+    if (f->warmStarted && request.coldRetry && failed && !timeUp()) {
         // The neighbour's state can sit in the basin of another branch after a large design step
         // (the optimizer's 98k evaluation 13: warm, stalled at 2e-2; cold with the switch
         // continuation, converged): the free stream is the start the cold solves are tuned for.
@@ -603,8 +612,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         f->warmReport = std::move(f->report);
         f->warmStarted = false;
         q.clear();
-        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
-    } else if (f->sequenced && request.coldRetry && failed) {
+        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, limited(no), onIteration(false), cancel, checkpoint);
+    } else if (f->sequenced && request.coldRetry && failed && !timeUp()) {
         // The same for a start from the coarser levels' answer, so that sequencing never loses a
         // design the solve from the free stream converges (and the dissipation continuation
         // below still follows a failure of that one).
@@ -615,10 +624,10 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         f->sequenced = false;
         no.cfl0 = case_.flow.newton.cfl0;
         q.clear();
-        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+        f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, limited(no), onIteration(false), cancel, checkpoint);
     }
     const flow::FlowStatus last = f->report.status;
-    if (request.dissipationRetry && !f->warmStarted && !f->restartContinued &&
+    if (request.dissipationRetry && !f->warmStarted && !f->restartContinued && !timeUp() &&
         (last == flow::FlowStatus::Stalled || last == flow::FlowStatus::Diverged || last == flow::FlowStatus::NotANumber)) {
         // Continuation in the dissipation (after Hicken and Zingg's dissipation-based
         // continuation, in a few fixed steps): with kappa2 and kappa4 several times the case's the
@@ -645,19 +654,23 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         freeStreamStage.referenceResidual = 0;
         const flow::NewtonOptions& handedOnStage = no;
         bool started = false;       // a stage has converged: q is the state handed on
-        bool finished = false;      // an attempt at the case's own problem converged: f->report
+        bool finished = false;      // an attempt at the case's own problem converged, or the time
+                                    // limit stopped it: f->report
         bool cancelled = false;
+        double timedOutAt = 0;      // > 0: the time limit stopped the stage at this factor
         for (double factor : kDissipationSchedule) {
             const bool own = factor == 1.0;
             if (own && !started) break;
             std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
             if (own) {
-                flow::FlowReport rep = flow::solveFlow(f->mesh, f->metrics, ro, qs, no, onIteration(false), cancel, checkpoint);
+                flow::FlowReport rep =
+                    flow::solveFlow(f->mesh, f->metrics, ro, qs, limited(no), onIteration(false), cancel, checkpoint);
                 say(format("the case's own dissipation from there: %s in %d iterations (relative residual %.2e)",
                            flow::flowStatusName(rep.status), rep.iterations, rep.relativeResidual()));
-                if (rep.converged() || rep.status == flow::FlowStatus::Cancelled) {
+                if (rep.converged() || rep.status == flow::FlowStatus::Cancelled || rep.status == flow::FlowStatus::TimeLimit) {
+                    // A time-limited attempt at the case's own problem is the answer as far as it got.
                     cancelled = rep.status == flow::FlowStatus::Cancelled;
-                    finished = rep.converged();
+                    finished = rep.status != flow::FlowStatus::Cancelled;
                     f->report = std::move(rep);
                     if (finished) q = std::move(qs);
                     break;
@@ -669,7 +682,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             stage.dissipation.kappa2 *= factor;
             stage.dissipation.kappa4 *= factor;
             FlowResult::DissipationStage ds{factor, flow::solveFlow(f->mesh, f->metrics, stage, qs,
-                                                                    started ? handedOnStage : freeStreamStage,
+                                                                    limited(started ? handedOnStage : freeStreamStage),
                                                                     onIteration(false), cancel)};
             say(format("continuation at %g times the dissipation: %s in %d iterations (relative residual %.2e)", factor,
                        flow::flowStatusName(ds.report.status), ds.report.iterations,
@@ -679,6 +692,10 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             if (stageStatus == flow::FlowStatus::Cancelled) {
                 cancelled = true;
                 f->report = f->dissipationStages.back().report;
+                break;
+            }
+            if (stageStatus == flow::FlowStatus::TimeLimit) {
+                timedOutAt = factor;
                 break;
             }
             const bool handsOn = stageStatus == flow::FlowStatus::Converged ||
@@ -694,8 +711,17 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         if (!finished) {
             if (cancelled) {
                 q = std::move(failedState);
+            } else if (timedOutAt > 0) {
+                // The stage's state solves another problem: the first attempt's state stands, and
+                // its report with the time limit as the reason the stage ended.
+                q = std::move(failedState);
+                f->report = f->failedReport;
+                f->report.status = flow::FlowStatus::TimeLimit;
+                f->report.message = format("the continuation in the dissipation was stopped by the time limit at %g times "
+                                           "the case's (the first attempt: %s)",
+                                           timedOutAt, f->failedReport.message.c_str());
             } else if (started) {
-                f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, no, onIteration(false), cancel, checkpoint);
+                f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, limited(no), onIteration(false), cancel, checkpoint);
             } else {
                 // Not even the largest dissipation converged: the first attempt's state and report stand.
                 q = std::move(failedState);
@@ -738,7 +764,10 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         e.message = f->report.message;
     } else if (!f->report.converged()) {
         e.status = EvaluationStatus::FlowNotConverged;
-        std::string why = f->report.message + "; the largest residual per volume (" + format("%.3g", f->largestResidual.value) +
+        std::string why = (f->report.status == flow::FlowStatus::TimeLimit
+                               ? format("the flow stage's time limit (flow.max_seconds %g s) is spent: ", budget)
+                               : std::string()) +
+                          f->report.message + "; the largest residual per volume (" + format("%.3g", f->largestResidual.value) +
                           ") is at " + describe(f->largestResidual);
         if (m.spacingJump.ratio > 8.0) {
             why += format("; the grid spacing jumps by a factor %.1f at block %d '%s' node (%d, %d, %d) (a finer level, a higher "
@@ -778,7 +807,11 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                           falling, kStillFallingWindow);
         } else if (request.stallModes.value_or(case_.flow.stallModes) && (f->report.status == flow::FlowStatus::Stalled ||
                                              f->report.status == flow::FlowStatus::MaxIterations)) {
-            why += stallModes(*f, mach, say, cancel);
+            if (timeUp()) {
+                why += format("; no search for growing modes: the time limit (flow.max_seconds %g s) is spent", budget);
+            } else {
+                why += stallModes(*f, mach, say, cancel);
+            }
         }
         if (f->coldRetry()) {
             why += format(" (solved from the free stream after the warm start stopped: %s after %d iterations)",

@@ -553,6 +553,26 @@ TEST(FlowSolver, StopsOnCancelAndOnTheIterationLimitWithTheReason) {
     EXPECT_NE(limited.message.find("not converged"), std::string::npos) << limited.message;
     EXPECT_LT(limited.finalResidual, limited.initialResidual);
     EXPECT_STREQ(flowStatusName(limited.status), "max-iterations");
+
+    // A time limit already spent stops the solve before its first iteration, with the residual.
+    NewtonOptions timed;
+    timed.maxSeconds = 1e-9;
+    std::vector<double> qt = testing::smoothState(box, 0.5, 0.2);
+    const std::vector<double> before = qt;
+    const FlowReport late = solve(box, o, qt, timed);
+    EXPECT_EQ(late.status, FlowStatus::TimeLimit);
+    EXPECT_EQ(late.iterations, 0);
+    EXPECT_FALSE(late.converged());
+    EXPECT_EQ(qt, before);
+    EXPECT_GT(late.finalResidual, 0.0);
+    EXPECT_NE(late.message.find("time limit after 0 iterations"), std::string::npos) << late.message;
+    EXPECT_STREQ(flowStatusName(late.status), "time-limit");
+    // A generous one changes nothing.
+    timed.maxSeconds = 1e6;
+    timed.maxIterations = 2;
+    const FlowReport generous = solve(box, o, qt, timed);
+    EXPECT_EQ(generous.status, FlowStatus::MaxIterations);
+    EXPECT_EQ(generous.finalResidual, limited.finalResidual);
 }
 
 TEST(FlowSolver, SwitchContinuationSolvesTheSmoothedProblemFirstAndConvergesTheCasesOwn) {

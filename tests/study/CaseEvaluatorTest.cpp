@@ -563,6 +563,27 @@ TEST(CaseEvaluator, ASolveStoppedWhileConvergingSaysSoInsteadOfLookingForModes) 
     EXPECT_EQ(study::stillFalling(flat), 0.0);
 }
 
+// flow.max_seconds bounds the whole flow stage: once it is spent, the solve stops with status
+// time-limit, and neither the retry from the free stream, the continuation in the dissipation nor
+// the growing-mode search starts; the message names the key.
+TEST(CaseEvaluator, TheFlowStagesTimeLimitStopsTheSolveAndEveryRetry) {
+    io::CaseFile c = smallBlendedWing();
+    c.flow.maxSeconds = 1e-6;
+    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
+    study::EvaluationRequest cold;
+    cold.warmStart = false;
+    const study::Evaluation e = ev.evaluate(ev.caseValues(), cold);
+    EXPECT_EQ(e.status, study::EvaluationStatus::FlowNotConverged);
+    ASSERT_TRUE(e.flow);
+    EXPECT_EQ(e.flow->report.status, flow::FlowStatus::TimeLimit);
+    EXPECT_EQ(e.flow->report.iterations, 0);
+    EXPECT_FALSE(e.flow->dissipationRetry());
+    EXPECT_TRUE(e.flow->dissipationStages.empty());
+    EXPECT_FALSE(e.flow->modesChecked);
+    EXPECT_NE(e.message.find("flow.max_seconds"), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find("time limit"), std::string::npos) << e.message;
+}
+
 // The design-space robustness suite at CI size: the sample scaled by 0, 0.25, ..., 1 and the
 // first 6 random designs (seed 1, each variable up to 0.15 of its range from the sphere's value;
 // redrawn while the lattice is not injective or the grid folds) on the optimization grid's
