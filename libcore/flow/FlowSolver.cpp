@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <new>
 
 #include "common/Error.h"
@@ -30,6 +31,30 @@ std::string sci(double x) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3e", x);
     return buf;
+}
+
+// A solve whose residual is within kRoundOffStall times its round-off level and has made no
+// progress for kRoundOffWindow iterations has converged as far as double precision allows.
+constexpr int kRoundOffStall = 10;
+constexpr int kRoundOffWindow = 5;
+
+// The residual's round-off level at q: ||R(q + d) - R(q)|| with every state value moved by one
+// unit in the last place (d_k = eps q_k s_k, s_k = +-1 by a hash of k). A state rounded to double
+// precision is that far from the exact one, so no tolerance below this residual can be met; a
+// solve that stalls within a small factor of it has converged as far as the arithmetic allows.
+double roundOffResidual(const FlowMesh& fm, const std::vector<double>& metrics, const std::vector<double>& q,
+                        const ResidualOptions& o) {
+    const long n = static_cast<long>(q.size());
+    std::vector<double> qd(q), r(n), rd(n);
+    const double eps = std::numeric_limits<double>::epsilon();
+    for (long k = 0; k < n; ++k) {
+        const bool up = ((static_cast<unsigned long>(k) * 2654435761UL) >> 16) & 1UL;
+        qd[k] += (up ? eps : -eps) * q[k];
+    }
+    residual(fm, metrics.data(), q.data(), o, r.data());
+    residual(fm, metrics.data(), qd.data(), o, rd.data());
+    for (long k = 0; k < n; ++k) rd[k] -= r[k];
+    return norm2(rd);
 }
 
 std::string fixedSeconds(double s) {
@@ -350,6 +375,12 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
     rep.cflBase = law.base();
     rep.lumping = system.lumping();
     int bestIteration = 0, rejections = 0;
+    double roundOff = 0;         // the residual's round-off level (roundOffResidual), measured
+                                 // the first time kRoundOffWindow steps make no progress
+    auto atRoundOff = [&] {
+        if (roundOff == 0) roundOff = roundOffResidual(fm, metrics, q, o);
+        return Rn <= kRoundOffStall * roundOff;
+    };
     double cflHigh = 0;          // the largest CFL of an accepted step so far
     double lastRatio = 1.0;      // the last accepted step's ||R|| after / before, when it was a
                                  // full exact step of the case's own residual (else 1)
@@ -550,6 +581,15 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
         } else if (it - bestIteration >= opt.stallIterations && continuing) {
             endContinuation(it);  // the smooth problem stalled: the case's own switch from here
             continue;
+        } else if (it - bestIteration >= kRoundOffWindow && active == &o && atRoundOff()) {
+            // A tolerance below the arithmetic's reach (1e-12 on the 98k optimization grid, whose
+            // residual's round-off level is 1.6e-12 of the free stream's there; the solve stops at
+            // 1.3e-12): converged as far as it can be, not a failure to retry or to look for modes.
+            return finish(FlowStatus::Converged,
+                          "converged to the round-off level: the residual stopped at " + sci(Rn / R0) + " after " +
+                              std::to_string(rep.iterations) + " iterations, within " + std::to_string(kRoundOffStall) +
+                              " times the change one unit in the last place of the state makes (" + sci(roundOff / R0) +
+                              "); the tolerance " + sci(opt.relativeTolerance) + " is below it on this grid");
         } else if (it - bestIteration >= opt.stallIterations) {
             return finish(FlowStatus::Stalled, "stalled: no progress in " + std::to_string(opt.stallIterations) +
                                                    " iterations at relative residual " + sci(Rn / R0));

@@ -82,8 +82,9 @@ struct FlowStart {
 /// factors in turn, the first from the free stream. A factor of 1 is an attempt at the case's own
 /// problem: when it converges, that is the answer and the continuation ends. Each stage starts
 /// from the state the stages before handed on: a stage above 1 hands on its state when it
-/// converged, or when it stalled or ran out of iterations after an earlier one converged (a stall
-/// that close to the answer is a start as good as a converged state); a failed attempt at the
+/// converged, or when it stalled or ran out of iterations after an earlier one converged and
+/// ended below the residual it started at (a stall that close to the answer is a start as good as
+/// a converged state; one that climbed has left it, and the state before stays); a failed attempt at the
 /// case's own problem, a diverged or a non-physical stage hands on nothing. After the last stage,
 /// the case's own problem is solved once more from the last state handed on. The steps below
 /// 2^(1/2) halve the excess in the exponent (2^(1/4), 2^(1/8)); they run only when the case's own
@@ -192,6 +193,11 @@ flow::FlowReport extendWarmStart(flow::FlowReport report, double relativeToleran
 /// The factor by which such a solve's residual fell over its last kStillFallingWindow
 /// iterations; 0 when it is not still falling (another status, too short or too slow a history).
 double stillFalling(const flow::FlowReport& r);
+
+/// Whether a stage of the dissipation continuation (a factor above 1) hands its state on to the
+/// next (kDissipationSchedule): when it converged, or, once an earlier stage converged
+/// (`started`), when it stalled or ran out of iterations below the residual it started at.
+bool continuationHandsOn(const flow::FlowReport& stage, bool started);
 
 /// A node of the flow grid, located for a human.
 struct FlowLocation {

@@ -524,6 +524,33 @@ TEST(CflLaw, BacksOffOnlyWhenGmresMissesItsToleranceByMoreThanTheDriftOfItsEstim
     EXPECT_DOUBLE_EQ(baseAfter(0.051, 0.0, strict), 100.0 * o.cflBackoff);
 }
 
+TEST(FlowSolver, ATolerancePastTheRoundOffLevelEndsConvergedThere) {
+    // No double-precision state meets a relative tolerance of 1e-30: the residual settles at its
+    // round-off level, and after kRoundOffWindow (5) steps without a new best there the solve
+    // ends converged and says why, instead of stalling (which would start the evaluator's retries
+    // and mode search) after stallIterations.
+    const auto box = testing::wavyBox(6, mesh::BoundaryKind::Wall);
+    ResidualOptions o;
+    std::vector<double> q = testing::smoothState(box, 0.5, 0.2);
+    NewtonOptions n;
+    n.relativeTolerance = 1e-30;
+    n.absoluteTolerance = 0;
+    n.stallIterations = 50;
+    const FlowReport rep = solve(box, o, q, n);
+    ASSERT_EQ(rep.status, FlowStatus::Converged) << rep.message;
+    EXPECT_NE(rep.message.find("round-off level"), std::string::npos) << rep.message;
+    EXPECT_LT(rep.relativeResidual(), 1e-11);
+    const int h = static_cast<int>(rep.history.size());
+    ASSERT_GT(h, 6);
+    // It ended well before the stall test would have.
+    int firstBelow = -1;
+    for (int i = 0; i < h && firstBelow < 0; ++i) {
+        if (rep.history[i].residual <= 1e-10 * rep.initialResidual) firstBelow = i;
+    }
+    ASSERT_GE(firstBelow, 0);
+    EXPECT_LT(h - firstBelow, n.stallIterations) << rep.message;
+}
+
 TEST(FlowSolver, ReportsANonPhysicalStartInsteadOfIterating) {
     const auto box = testing::wavyBox(5, mesh::BoundaryKind::Wall);
     ResidualOptions o;
