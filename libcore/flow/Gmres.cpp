@@ -1,5 +1,7 @@
 #include "flow/Gmres.h"
 
+#include "flow/ChunkedSum.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -231,6 +233,11 @@ Eigen::MatrixXd harmonicRitzVectors(const Eigen::MatrixXd& Hbar, int m, int want
 }
 
 }  // namespace
+
+double chunkedDot(long n, const double* a, const double* b) {
+    std::vector<double> partial;
+    return dot(n, a, b, partial);
+}
 
 void GmresWorkspace::reserve(long n, int vectors, int singleVectors) {
     if (n != n_) {
