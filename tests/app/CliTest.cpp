@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -957,6 +958,34 @@ TEST(Cli, OptimizeKilledAndResumedReachesTheSameIterates) {
             k.erase("replayed");
             EXPECT_EQ(k, w) << "round " << round << ", record " << i;
         }
+    }
+
+    // While another run owns the history (here: this test holds its lock, as a running optimize
+    // does), a second run, resumed or fresh, is refused, names the owner and touches nothing: it
+    // would interleave its records with the owner's, or delete the warm states the owner reads.
+    // (The SIGKILLed runs above left the lock free: the kernel drops it with the process.)
+    {
+        const std::string states = tmp("opt_killed/history.states");
+        auto stateFiles = [&] {
+            std::size_t k = 0;
+            for (const auto& e : std::filesystem::directory_iterator(states)) k += e.is_regular_file() ? 1 : 0;
+            return k;
+        };
+        const std::size_t statesBefore = stateFiles();
+        ASSERT_GT(statesBefore, 0u);
+        const int fd = ::open((jsonl + ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        ASSERT_GE(fd, 0);
+        ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+        ASSERT_EQ(::ftruncate(fd, 0), 0);
+        ASSERT_EQ(::pwrite(fd, "4242", 4, 0), 4);
+        for (const char* flag : {"--resume", "--fresh"}) {
+            const Result second = run("optimize '" + killed + "' " + flag + " --quiet");
+            EXPECT_EQ(second.code, 1) << flag;
+            EXPECT_NE(second.err.find("is in use by another run (process 4242)"), std::string::npos) << second.err;
+            EXPECT_EQ(historyRecords(jsonl).size(), before) << flag;
+            EXPECT_EQ(stateFiles(), statesBefore) << flag;
+        }
+        ::close(fd);
     }
 
     r = run("optimize '" + killed + "' --json --quiet");
