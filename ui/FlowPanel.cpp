@@ -46,6 +46,7 @@ constexpr Shown kShown[] = {
     {"flow", "kappa4", "Dissipation \u03ba&4"},
     {"flow", "max_iterations", "Max. &iterations"},
     {"flow", "tolerance", "&Tolerance"},
+    {"flow", "max_seconds", "Time &limit (0: none)"},
 };
 
 }  // namespace

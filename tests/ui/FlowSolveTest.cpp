@@ -106,6 +106,7 @@ class FlowSolveTest : public QObject {
     void oneRunAtATime();
     void stopEndsTheRunQuicklyAndContinueResumesIt();
     void aRunThatDoesNotConvergeSaysWhy();
+    void aRunStoppedByItsTimeLimitSaysSo();
     void caseOptionsAreUndoableEdits();
     void anotherDocumentDropsTheRun();
     void quittingMidRunAsksThenKeepsTheState();
@@ -521,6 +522,21 @@ void FlowSolveTest::aRunThatDoesNotConvergeSaysWhy() {
     doc.undoStack()->undo();
     QCOMPARE(doc.undoStack()->count(), undoBefore + 1);
     QCOMPARE(doc.caseFile().flow.newton.maxIterations, case_.flow.newton.maxIterations);
+}
+
+// flow.max_seconds is on the panel; a run that spends it stops with that reason, and no retry or
+// mode search follows in the background job.
+void FlowSolveTest::aRunStoppedByItsTimeLimitSaysSo() {
+    aero::ui::Document& doc = window_->document();
+    QVERIFY(panel().editor("flow", "max_seconds"));
+    doc.setOption(aero::ui::Document::Section::Flow, "max_seconds", aero::io::OptionValue(1e-6));
+    QCOMPARE(std::get<double>(panel().editor("flow", "max_seconds")->value()), 1e-6);
+    const State s = solve();
+    QCOMPARE(s, State::NotConverged);
+    QVERIFY2(runner().reason().contains(QStringLiteral("flow.max_seconds")), qPrintable(runner().reason()));
+    QVERIFY2(!runner().reason().contains(QStringLiteral("grows")), qPrintable(runner().reason()));
+    doc.undoStack()->undo();
+    QCOMPARE(doc.caseFile().flow.maxSeconds, 0.0);
 }
 
 void FlowSolveTest::caseOptionsAreUndoableEdits() {
