@@ -9,6 +9,19 @@
 namespace aero::flow {
 
 namespace {
+
+// Rows [first, last) of the permuted vector w from b (w_i = b_order[i]), and back into x.
+void gatherRows(const double* b, const long* order, long first, long last, double* w) {
+    for (long i = first; i < last; ++i) {
+        for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
+    }
+}
+
+void scatterRows(const double* w, const long* order, long first, long last, double* x) {
+    for (long i = first; i < last; ++i) {
+        for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];
+    }
+}
 using Block = Eigen::Matrix<double, kBlock, kBlock, Eigen::RowMajor>;
 // A factor value computed in double, stored in the factors' precision.
 inline void storeRounded(double v, double& to) { to = v; }
@@ -281,41 +294,42 @@ void BlockIlu::backwardRows(const V* vals, long first, long last, double* x) con
 
 void BlockIlu::solve(const double* b, double* x) const {
     // In place on the permuted vector: L y = b forward (parts in parallel, then the
-    // separator), U x = y backward (the separator, then the parts in parallel).
+    // separator), U x = y backward (the separator, then the parts in parallel). Each part gathers
+    // its own rows of b before its forward sweep and scatters them into x after its backward one
+    // (its sweeps read only its rows), so the permutations need no phases of their own: three
+    // barriers per solve instead of five, the same arithmetic.
     const long n = lu_.rows;
     const int P = ordering_.parts();
     const std::vector<long>& start = ordering_.partStart;
     const long* order = ordering_.order.data();
     work_.resize(kBlock * static_cast<std::size_t>(n));
     double* w = work_.data();
+    auto gather = [&](long first, long last) { gatherRows(b, order, first, last, w); };
+    auto scatter = [&](long first, long last) { scatterRows(w, order, first, last, x); };
 #pragma omp parallel if (P > 1)
     {
-#pragma omp for schedule(static)
-        for (long i = 0; i < n; ++i) {
-            for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
-        }
 #pragma omp for schedule(dynamic, 1)
         for (int p = 0; p < P; ++p) {
+            gather(start[p], start[p + 1]);
             withValues([&](const auto* vals) {
                 forwardRows(vals, start[p], start[p + 1], w);
             });
         }
 #pragma omp single
         {
+            gather(start[P], start[P + 1]);
             withValues([&](const auto* vals) {
                 forwardRows(vals, start[P], start[P + 1], w);
                 backwardRows(vals, start[P], start[P + 1], w);
             });
+            scatter(start[P], start[P + 1]);  // (the parts read the separator's rows of w, not x)
         }
 #pragma omp for schedule(dynamic, 1)
         for (int p = 0; p < P; ++p) {
             withValues([&](const auto* vals) {
                 backwardRows(vals, start[p], start[p + 1], w);
             });
-        }
-#pragma omp for schedule(static)
-        for (long i = 0; i < n; ++i) {
-            for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];
+            scatter(start[p], start[p + 1]);
         }
     }
 }
@@ -401,34 +415,32 @@ void BlockIlu::solveTranspose(const double* b, double* x) const {
     const long* order = ordering_.order.data();
     work_.resize(kBlock * static_cast<std::size_t>(n));
     double* w = work_.data();
+    auto gather = [&](long first, long last) { gatherRows(b, order, first, last, w); };
+    auto scatter = [&](long first, long last) { scatterRows(w, order, first, last, x); };
 #pragma omp parallel if (P > 1)
     {
-#pragma omp for schedule(static)
-        for (long i = 0; i < n; ++i) {
-            for (int v = 0; v < kBlock; ++v) w[kBlock * i + v] = b[kBlock * order[i] + v];
-        }
 #pragma omp for schedule(dynamic, 1)
         for (int p = 0; p < P; ++p) {
+            gather(start[p], start[p + 1]);
             withValues([&](const auto* vals) {
                 transposeForwardRows(vals, start[p], start[p + 1], w);
             });
         }
 #pragma omp single
         {
+            gather(start[P], start[P + 1]);
             withValues([&](const auto* vals) {
                 transposeForwardRows(vals, start[P], start[P + 1], w);
                 transposeBackwardRows(vals, start[P], start[P + 1], w);
             });
+            scatter(start[P], start[P + 1]);
         }
 #pragma omp for schedule(dynamic, 1)
         for (int p = 0; p < P; ++p) {
             withValues([&](const auto* vals) {
                 transposeBackwardRows(vals, start[p], start[p + 1], w);
             });
-        }
-#pragma omp for schedule(static)
-        for (long i = 0; i < n; ++i) {
-            for (int v = 0; v < kBlock; ++v) x[kBlock * order[i] + v] = w[kBlock * i + v];
+            scatter(start[p], start[p + 1]);
         }
     }
 }
