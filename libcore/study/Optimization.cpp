@@ -1,7 +1,6 @@
 #include "study/Optimization.h"
 
 #include <fcntl.h>
-#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +19,7 @@
 
 #include "common/AtomicFile.h"
 #include "common/Error.h"
+#include "common/FileLock.h"
 #include "common/Format.h"
 #include "ffd/ShapeConstraints.h"
 #include "io/FlowFiles.h"
@@ -230,44 +230,6 @@ void appendLine(const std::string& path, const std::string& line, const char* wh
     ::fsync(fd);
     ::close(fd);
 }
-
-// The history's lock: one run at a time may own a history (a second run on it, resumed or fresh,
-// would interleave its records with the first's or delete the warm states the first reads). An
-// exclusive flock on `<history>.lock`, held while this object lives; the kernel releases it when
-// the process ends in any way (kill -9 included), so a killed run never leaves a stale lock. The
-// file keeps the owner's process id for the message.
-class HistoryLock {
-public:
-    explicit HistoryLock(const std::string& history) : path_(history + ".lock") {
-        fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-        if (fd_ < 0) throw InputError("cannot create the history's lock '" + path_ + "': " + std::strerror(errno));
-        if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-            const int e = errno;
-            char buf[32] = {};
-            const ssize_t got = ::pread(fd_, buf, sizeof buf - 1, 0);
-            ::close(fd_);
-            if (e != EWOULDBLOCK) throw InputError("cannot lock the history '" + history + "': " + std::strerror(e));
-            const std::string owner = got > 0 ? std::string(buf, static_cast<std::size_t>(got)) : std::string();
-            throw InputError("the optimization history '" + history + "' is in use by another run" +
-                             (owner.empty() ? std::string() : " (process " + owner + ")") +
-                             ": wait for it to end, or stop it (Ctrl+C, or Stop in the GUI) and then --resume");
-        }
-        const std::string pid = std::to_string(::getpid());
-        if (::ftruncate(fd_, 0) == 0) {
-            const ssize_t written = ::pwrite(fd_, pid.data(), pid.size(), 0);
-            (void)written;  // the id is only for the message: the lock holds without it
-        }
-    }
-    ~HistoryLock() {
-        if (fd_ >= 0) ::close(fd_);  // releases the lock
-    }
-    HistoryLock(const HistoryLock&) = delete;
-    HistoryLock& operator=(const HistoryLock&) = delete;
-
-private:
-    std::string path_;
-    int fd_ = -1;
-};
 
 bool sameBits(const std::vector<double>& a, const std::vector<double>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
@@ -705,7 +667,15 @@ OptimizationSummary optimizeCase(CaseEvaluator& ev, const OptimizationOptions& o
     if (!c.outputGeometry.empty() && !fs::path(c.outputGeometry).parent_path().empty()) {
         fs::create_directories(fs::path(c.outputGeometry).parent_path());
     }
-    const HistoryLock lock(summary.historyJsonl);  // before the history is read, replaced or appended to
+    // One run at a time owns a history: a second one, resumed or fresh, would interleave its
+    // records with the first's or delete the warm states the first reads. Taken before the
+    // history is read, replaced or appended to.
+    const FileLock lock(summary.historyJsonl + ".lock");
+    if (!lock.held()) {
+        throw InputError("the optimization history '" + summary.historyJsonl + "' is in use by another run" +
+                         (lock.owner().empty() ? std::string() : " (process " + lock.owner() + ")") +
+                         ": wait for it to end, or stop it (Ctrl+C, or Stop in the GUI) and then --resume");
+    }
     OptimizationRecord header;
     header.kind = Kind::Header;
     header.optimizer = oc.optimizer;
