@@ -632,17 +632,15 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
     if (request.dissipationRetry && !f->warmStarted && !f->restartContinued && !timeUp() &&
         (last == flow::FlowStatus::Stalled || last == flow::FlowStatus::Diverged || last == flow::FlowStatus::NotANumber)) {
         // Continuation in the dissipation (after Hicken and Zingg's dissipation-based
-        // continuation, in a few fixed steps): with kappa2 and kappa4 several times the case's the
-        // steady state is smoother and the slow pseudo-time modes that hold a creased design's
-        // solve (docs/validation.md) are damped, so the pseudo-transient path reaches it; each
-        // smaller factor starts next to its answer, and so does the case's own problem at the
-        // end, where Newton's steps converge. The answer is the case's own residual's. When the
-        // case's own problem does not converge from the 2^(1/2) stage's state, smaller steps
-        // follow (kDissipationSchedule): the 98k random design 3 of the robustness study
-        // converges through 2^(1/4) and 2^(1/8), the latter stalled but close (docs/validation.md).
+        // continuation, in steps that adapt, DissipationContinuation): with kappa2 and kappa4
+        // several times the case's the steady state is smoother and the slow pseudo-time modes
+        // that hold a creased design's solve (docs/validation.md) are damped, so the
+        // pseudo-transient path reaches it; each smaller factor starts next to its answer, and so
+        // does the case's own problem at the end, where Newton's steps converge. The answer is the
+        // case's own residual's.
         say(format("the solve stopped (%s after %d iterations: %s): continuation in the dissipation from %g times "
                    "the case's",
-                   flow::flowStatusName(last), f->report.iterations, f->report.message.c_str(), kDissipationSchedule[0]));
+                   flow::flowStatusName(last), f->report.iterations, f->report.message.c_str(), kDissipationFirst));
         f->failedReport = std::move(f->report);
         std::vector<double> failedState = std::move(q);
         // A stage from the free stream refers its tolerance and CFL law to its own start (the
@@ -655,20 +653,23 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         flow::NewtonOptions freeStreamStage = no;
         freeStreamStage.referenceResidual = 0;
         const flow::NewtonOptions& handedOnStage = no;
-        bool started = false;       // a stage has converged: q is the state handed on
+        DissipationContinuation plan;
         bool finished = false;      // an attempt at the case's own problem converged, or the time
                                     // limit stopped it: f->report
         bool cancelled = false;
         double timedOutAt = 0;      // > 0: the time limit stopped the stage at this factor
-        for (double factor : kDissipationSchedule) {
+        std::vector<double> ownState;  // the last stage's, when it was a failed attempt at the
+                                       // case's own problem from the state q holds
+        for (double factor; (factor = plan.next()) > 0;) {
             const bool own = factor == 1.0;
-            if (own && !started) break;
+            const bool started = plan.from() > 0;  // q holds the state handed on
             std::vector<double> qs = started ? q : flow::freeStreamState(f->mesh, ro.freeStream);
+            ownState.clear();
             if (own) {
                 flow::FlowReport rep =
                     flow::solveFlow(f->mesh, f->metrics, ro, qs, limited(no), onIteration(false), cancel, checkpoint);
-                say(format("the case's own dissipation from there: %s in %d iterations (relative residual %.2e)",
-                           flow::flowStatusName(rep.status), rep.iterations, rep.relativeResidual()));
+                say(format("the case's own dissipation from the state at %g times: %s in %d iterations (relative residual %.2e)",
+                           plan.from(), flow::flowStatusName(rep.status), rep.iterations, rep.relativeResidual()));
                 if (rep.converged() || rep.status == flow::FlowStatus::Cancelled || rep.status == flow::FlowStatus::TimeLimit) {
                     // A time-limited attempt at the case's own problem is the answer as far as it got.
                     cancelled = rep.status == flow::FlowStatus::Cancelled;
@@ -677,7 +678,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                     if (finished) q = std::move(qs);
                     break;
                 }
-                f->dissipationStages.push_back({factor, std::move(rep)});  // failed: the next stage starts from q
+                f->dissipationStages.push_back({factor, std::move(rep)});  // failed: q stays
+                ownState = std::move(qs);
+                plan.ended(false);
                 continue;
             }
             flow::ResidualOptions stage = ro;
@@ -686,9 +689,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             FlowResult::DissipationStage ds{factor, flow::solveFlow(f->mesh, f->metrics, stage, qs,
                                                                     limited(started ? handedOnStage : freeStreamStage),
                                                                     onIteration(false), cancel)};
-            say(format("continuation at %g times the dissipation: %s in %d iterations (relative residual %.2e)", factor,
-                       flow::flowStatusName(ds.report.status), ds.report.iterations,
-                       ds.report.relativeResidual()));
+            say(format("continuation at %g times the dissipation%s: %s in %d iterations (relative residual %.2e)", factor,
+                       started ? format(" (from the state at %g times)", plan.from()).c_str() : " (from the free stream)",
+                       flow::flowStatusName(ds.report.status), ds.report.iterations, ds.report.relativeResidual()));
             const flow::FlowStatus stageStatus = ds.report.status;
             const bool handsOn = continuationHandsOn(ds.report, started);
             f->dissipationStages.push_back(std::move(ds));
@@ -701,12 +704,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                 timedOutAt = factor;
                 break;
             }
-            if (handsOn) {
-                q = std::move(qs);
-                started = true;
-            } else if (!started) {
-                break;  // nothing to continue from
-            }
+            if (handsOn) q = std::move(qs);
+            plan.ended(handsOn);
         }
         if (!finished) {
             if (cancelled) {
@@ -720,7 +719,13 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                 f->report.message = format("the continuation in the dissipation was stopped by the time limit at %g times "
                                            "the case's (the first attempt: %s)",
                                            timedOutAt, f->failedReport.message.c_str());
-            } else if (started) {
+            } else if (!ownState.empty()) {
+                // The last stage was the case's own problem from the state handed on: its attempt
+                // is the answer as far as it got (solving it again from there would repeat it).
+                f->report = std::move(f->dissipationStages.back().report);
+                f->dissipationStages.pop_back();
+                q = std::move(ownState);
+            } else if (plan.from() > 0) {
                 f->report = flow::solveFlow(f->mesh, f->metrics, ro, q, limited(no), onIteration(false), cancel, checkpoint);
             } else {
                 // Not even the largest dissipation converged: the first attempt's state and report stand.
@@ -901,6 +906,40 @@ bool continuationHandsOn(const flow::FlowReport& stage, bool started) {
     // random design 8: 1.19 times the dissipation stalled at 4e-5, then 1.09 times from there
     // climbed from 5.6e-3 to 1.8e-2): the state before it is the better start for the next.
     return !stage.history.empty() && stage.finalResidual < stage.history.front().residual;
+}
+
+void DissipationContinuation::ended(bool handedOn) {
+    const double f = next_;
+    ++stages_;
+    next_ = 0;
+    if (stages_ >= kDissipationMaxStages) return;
+    if (from_ == 0 && !handedOn) {
+        // Nothing to start from yet: climb, from the free stream, while the ladder goes up.
+        const auto at = std::find(kDissipationLadder.begin(), kDissipationLadder.end(), f);
+        if (at != kDissipationLadder.begin() && at != kDissipationLadder.end() && *at >= kDissipationFirst) next_ = *(at - 1);
+        return;
+    }
+    if (handedOn) {
+        from_ = f;
+        if (f == 1.0) return;  // the case's own problem converged
+        if (!targets_.empty()) {
+            next_ = targets_.back();
+            targets_.pop_back();
+            return;
+        }
+        for (double l : kDissipationLadder) {
+            if (l < f) {
+                next_ = l;
+                return;
+            }
+        }
+        return;
+    }
+    // Missed from from_: halfway there in the exponent first, unless the step is already the finest.
+    const double half = std::sqrt(from_ * f);
+    if (from_ / half < kDissipationFinestRatio * (1 - 1e-12)) return;
+    targets_.push_back(f);
+    next_ = half;
 }
 
 double stillFalling(const flow::FlowReport& r) {

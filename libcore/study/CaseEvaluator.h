@@ -78,21 +78,57 @@ struct FlowStart {
 };
 
 /// The continuation in the dissipation that a failed cold solve is given
-/// (EvaluationRequest::dissipationRetry): solves with the case's kappa2 and kappa4 times these
-/// factors in turn, the first from the free stream. A factor of 1 is an attempt at the case's own
-/// problem: when it converges, that is the answer and the continuation ends. Each stage starts
-/// from the state the stages before handed on: a stage above 1 hands on its state when it
-/// converged, or when it stalled or ran out of iterations after an earlier one converged and
-/// ended below the residual it started at (a stall that close to the answer is a start as good as
-/// a converged state; one that climbed has left it, and the state before stays); a failed attempt at the
-/// case's own problem, a diverged or a non-physical stage hands on nothing. After the last stage,
-/// the case's own problem is solved once more from the last state handed on. The steps below
-/// 2^(1/2) halve the excess in the exponent (2^(1/4), 2^(1/8)); they run only when the case's own
-/// problem does not converge from the 2^(1/2) stage's state (docs/validation.md: the 98k random
-/// design 3 needs them, the CI suite's design 9 does not and converges in 21 iterations from
-/// 2^(1/2), where the finer stages would cost it 200 more).
-inline constexpr std::array<double, 6> kDissipationSchedule = {4.0, 2.0, 1.4142135623730951, 1.0, 1.189207115002721,
-                                                               1.0905077326652577};
+/// (EvaluationRequest::dissipationRetry): solves with the case's kappa2 and kappa4 times a factor,
+/// stage by stage (DissipationContinuation), the first from the free stream at 4 times. A factor
+/// of 1 is an attempt at the case's own problem: when it converges, that is the answer and the
+/// continuation ends. Each stage starts from the state the stages before handed on: a stage
+/// above 1 hands on its state when it converged, or when it stalled or ran out of iterations after
+/// an earlier one converged and ended below the residual it started at (a stall that close to the
+/// answer is a start as good as a converged state; one that climbed has left it, and the state
+/// before stays); a failed attempt at the case's own problem, a diverged or a non-physical stage
+/// hands on nothing.
+///
+/// The factors the continuation goes down through, from the largest: 16 and 8 are climbed to
+/// (from the free stream) only while no stage has converged, 4 is the first stage.
+inline constexpr std::array<double, 6> kDissipationLadder = {16.0, 8.0, 4.0, 2.0, 1.4142135623730951, 1.0};
+inline constexpr double kDissipationFirst = 4.0;
+/// The smallest ratio between the factor a stage starts from and its own: a stage that does not
+/// hand on is retried halfway (in the exponent) between the two, then the factor it missed
+/// again, down to this ratio (2^(1/16)). The steps below 2^(1/2) of the earlier fixed schedule
+/// (2^(1/4), 2^(1/8)) are such halvings: the 98k random design 3 of the robustness study needs
+/// them (docs/validation.md).
+inline constexpr double kDissipationFinestRatio = 1.0442737824274138;
+/// At most this many stages (each 1-10 minutes on the 98k optimization grid; flow.max_seconds
+/// bounds the time too).
+inline constexpr int kDissipationMaxStages = 16;
+
+/// The order of the continuation's stages, from the outcome of each. Until a stage hands its state
+/// on, the continuation climbs from kDissipationFirst (4, 8, 16 times the case's dissipation,
+/// each from the free stream: the 98k random designs 5 and 7 stall at 4 and converge at 16 and 8);
+/// after that it descends through kDissipationLadder from the factor whose state it holds, and a
+/// stage that does not hand on is followed by one halfway (geometrically) between the two, the
+/// factor it missed being retried from there (a stack of targets), down to
+/// kDissipationFinestRatio. So 4, 2, 1.41 and 1 when every stage converges, and 1.19 then 1 again
+/// and 1.09 then 1 again when the case's own problem does not converge from 1.41 and 1.19.
+class DissipationContinuation {
+public:
+    /// The factor of the next stage (times the case's kappa2 and kappa4; 1: the case's own
+    /// problem); 0 when the continuation is over.
+    double next() const { return next_; }
+    /// The factor whose state the next stage starts from; 0: none has been handed on (the stage
+    /// starts from the free stream).
+    double from() const { return from_; }
+    int stages() const { return stages_; }
+    /// How the stage at next() ended: whether its state was handed on (continuationHandsOn). An
+    /// attempt at the case's own problem that converged ends the continuation either way.
+    void ended(bool handedOn);
+
+private:
+    double next_ = kDissipationFirst;
+    double from_ = 0;
+    std::vector<double> targets_;  // factors a stage missed, to be retried; the nearest last
+    int stages_ = 0;
+};
 
 struct EvaluationRequest {
     bool mesh = true;        // run the mesh stage (the flow stage needs it)
@@ -104,7 +140,7 @@ struct EvaluationRequest {
                              // unconverged branch)
     bool dissipationRetry = true;  // a solve from the free stream that stalls, diverges or is not
                                    // physical is solved again by continuation in the dissipation
-                                   // (kDissipationSchedule), ending with the case's own problem
+                                   // (DissipationContinuation), ending with the case's own problem
     std::optional<bool> sequencing;  // without a warm start: first solve on coarser samplings of
                                      // the grid (unset: the case's flow.grid_sequencing; either way
                                      // only from flow.sequencing_nodes nodes on)
@@ -195,7 +231,7 @@ flow::FlowReport extendWarmStart(flow::FlowReport report, double relativeToleran
 double stillFalling(const flow::FlowReport& r);
 
 /// Whether a stage of the dissipation continuation (a factor above 1) hands its state on to the
-/// next (kDissipationSchedule): when it converged, or, once an earlier stage converged
+/// next (DissipationContinuation): when it converged, or, once an earlier stage converged
 /// (`started`), when it stalled or ran out of iterations below the residual it started at.
 bool continuationHandsOn(const flow::FlowReport& stage, bool started);
 

@@ -596,25 +596,51 @@ TEST(CaseEvaluator, AContinuationStageHandsOnOnlyAStateBetterThanItsStart) {
     EXPECT_FALSE(study::continuationHandsOn(none, true));
 }
 
-// flow.max_seconds bounds the whole flow stage: once it is spent, the solve stops with status
-// time-limit, and neither the retry from the free stream, the continuation in the dissipation nor
-// the growing-mode search starts; the message names the key.
-TEST(CaseEvaluator, TheFlowStagesTimeLimitStopsTheSolveAndEveryRetry) {
-    io::CaseFile c = smallBlendedWing();
-    c.flow.maxSeconds = 1e-6;
-    study::CaseEvaluator ev(c, study::loadGeometry(c.geometry));
-    study::EvaluationRequest cold;
-    cold.warmStart = false;
-    const study::Evaluation e = ev.evaluate(ev.caseValues(), cold);
-    EXPECT_EQ(e.status, study::EvaluationStatus::FlowNotConverged);
-    ASSERT_TRUE(e.flow);
-    EXPECT_EQ(e.flow->report.status, flow::FlowStatus::TimeLimit);
-    EXPECT_EQ(e.flow->report.iterations, 0);
-    EXPECT_FALSE(e.flow->dissipationRetry());
-    EXPECT_TRUE(e.flow->dissipationStages.empty());
-    EXPECT_FALSE(e.flow->modesChecked);
-    EXPECT_NE(e.message.find("flow.max_seconds"), std::string::npos) << e.message;
-    EXPECT_NE(e.message.find("time limit"), std::string::npos) << e.message;
+// The continuation's stages (DissipationContinuation): from 4 times the case's dissipation it
+// climbs to 8 and 16 while no stage has handed a state on (the 98k random designs 5 and 7 stall at
+// 4 times), then descends from the first that did; a stage that misses is retried halfway (in
+// the exponent) from the state before, and the factor it missed again from there, down to a ratio
+// of 2^(1/16); it never climbs once a state was handed on, nor past 16.
+TEST(CaseEvaluator, TheDissipationContinuationClimbsUntilAStageConvergesThenHalvesItsMissedSteps) {
+    auto run = [](std::vector<bool> outcomes) {  // the factors tried, for these outcomes in turn
+        study::DissipationContinuation plan;
+        std::vector<double> factors;
+        for (bool handedOn : outcomes) {
+            if (plan.next() <= 0) break;
+            factors.push_back(plan.next());
+            plan.ended(handedOn);
+        }
+        if (plan.next() > 0) factors.push_back(plan.next());  // the stage that would come next
+        return factors;
+    };
+    auto expectFactors = [](const std::vector<double>& got, const std::vector<double>& want) {
+        ASSERT_EQ(got.size(), want.size());
+        for (std::size_t k = 0; k < want.size(); ++k) EXPECT_NEAR(got[k], want[k], 1e-14 * want[k]) << "stage " << k;
+    };
+    const double r2 = std::sqrt(2.0), r4 = std::pow(2.0, 0.25), r8 = std::pow(2.0, 0.125), r16 = std::pow(2.0, 0.0625);
+    // Every stage converges: 4, 2, 1.41, the case's own (which ends it).
+    expectFactors(run({true, true, true, true}), {4, 2, r2, 1});
+    // The earlier fixed schedule's finer steps, when the case's own problem misses from 1.41 and 1.19.
+    expectFactors(run({true, true, true, false, true, false, true, true}), {4, 2, r2, 1, r4, 1, r8, 1});
+    // Nothing converges: 4, 8, 16 from the free stream, then nothing.
+    expectFactors(run({false, false, false}), {4, 8, 16});
+    // 16 converges: down through 8 and 4; 2 misses from 4, so 2.83 and then 2 again.
+    expectFactors(run({false, false, true, true, true, false, true}), {4, 8, 16, 8, 4, 2, 2 * r2, 2});
+    // Missing every time from 4: 2.83, 3.36, 3.67, 3.83 (the ratio 2^(1/16)), then nothing.
+    expectFactors(run({true, false, false, false, false, false}), {4, 2, 2 * r2, 4 / r4, 4 / r8, 4 / r16});
+    study::DissipationContinuation plan;
+    for (bool handedOn : {true, false, false, false, false, false}) plan.ended(handedOn);
+    EXPECT_EQ(plan.next(), 0.0);
+    EXPECT_EQ(plan.from(), 4.0);
+    EXPECT_EQ(plan.stages(), 6);
+    // A stack of targets: from 4, 2 misses, 2.83 misses, 3.36 converges, then 2.83, then 2.
+    expectFactors(run({true, false, false, true, true}), {4, 2, 2 * r2, 4 / r4, 2 * r2, 2});
+    // At most kDissipationMaxStages stages (this pattern, the case's own problem always missing,
+    // would take 18).
+    study::DissipationContinuation longRun;
+    int stages = 0;
+    for (; longRun.next() > 0 && stages < 100; ++stages) longRun.ended(longRun.next() != 1.0 && stages % 3 != 0);
+    EXPECT_EQ(stages, study::kDissipationMaxStages);
 }
 
 // The design-space robustness suite at CI size: the sample scaled by 0, 0.25, ..., 1 and the
@@ -655,9 +681,12 @@ TEST(CaseEvaluator, RobustnessSuiteOfScaledAndRandomDesignsConverges) {
             const study::FlowResult& f = *e.flow;
             ++continued;
             int iterations = f.report.iterations + f.failedReport.iterations;
+            study::DissipationContinuation plan;  // the order the stages must have come in
             for (std::size_t k = 0; k < f.dissipationStages.size(); ++k) {
-                EXPECT_EQ(f.dissipationStages[k].factor, study::kDissipationSchedule[k]);
-                iterations += f.dissipationStages[k].report.iterations;
+                const study::FlowResult::DissipationStage& st = f.dissipationStages[k];
+                EXPECT_EQ(st.factor, plan.next()) << "stage " << k;
+                iterations += st.report.iterations;
+                plan.ended(st.factor != 1.0 && study::continuationHandsOn(st.report, plan.from() > 0));
             }
             EXPECT_EQ(f.totalIterations(), iterations);
             EXPECT_NE(f.failedReport.status, flow::FlowStatus::Converged);
