@@ -828,15 +828,31 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                           flow::flowStatusName(f->sequencedReport.status), f->sequencedReport.iterations);
         }
         if (f->dissipationRetry()) {
-            const FlowResult::DissipationStage& stage1 = f->dissipationStages.front();
-            double smallest = stage1.factor;
-            for (const auto& ds : f->dissipationStages) smallest = ds.report.converged() ? ds.factor : smallest;
-            why += stage1.report.converged()
-                       ? format(" (after the first attempt stopped, %s after %d iterations, the continuation in the "
-                                "dissipation converged at %g times the case's but not at the case's own)",
-                                flow::flowStatusName(f->failedReport.status), f->failedReport.iterations, smallest)
-                       : format(" (a solve with %g times the dissipation did not converge either: %s after %d iterations)",
-                                stage1.factor, flow::flowStatusName(stage1.report.status), stage1.report.iterations);
+            // The smallest factor whose stage converged, and the closest below it that missed: where
+            // the steady flow stops being reached as the dissipation falls.
+            double smallest = 0, missed = 0;
+            for (const auto& ds : f->dissipationStages) {
+                if (ds.report.converged() && (smallest == 0 || ds.factor < smallest)) smallest = ds.factor;
+            }
+            for (const auto& ds : f->dissipationStages) {
+                if (!ds.report.converged() && ds.factor < smallest && ds.factor > missed) missed = ds.factor;
+            }
+            if (smallest > 0) {
+                why += format(" (after the first attempt stopped, %s after %d iterations, the continuation in the "
+                              "dissipation converged down to %.3g times the case's (kappa4 %.3g) but not at %.3g times "
+                              "or below: this shape's steady flow was not reached with less dissipation; it may have "
+                              "none (unsteady, separated flow); a smoother shape, or kappa2 and kappa4 %.3g times the "
+                              "case's, converge)",
+                              flow::flowStatusName(f->failedReport.status), f->failedReport.iterations, smallest,
+                              ro.dissipation.kappa4 * smallest, missed > 0 ? missed : 1.0, smallest);
+            } else {
+                std::string tried;
+                for (const auto& ds : f->dissipationStages) {
+                    tried += format("%s%g times: %s after %d iterations", tried.empty() ? "" : "; ", ds.factor,
+                                    flow::flowStatusName(ds.report.status), ds.report.iterations);
+                }
+                why += format(" (solves with more dissipation did not converge either: %s)", tried.c_str());
+            }
         }
         e.message = why;
     } else {

@@ -683,6 +683,8 @@ TEST(Cli, FlowReportsEveryAttemptOfTheContinuationInTheDissipation) {
     EXPECT_NE(r.err.find("continuation in the dissipation from 4 times"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("continuation at 4 times the dissipation (from the free stream): stalled in "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("continuation at 16 times the dissipation (from the free stream): stalled in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("solves with more dissipation did not converge either: 4 times: stalled after "), std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("(relative residual "), std::string::npos) << r.err;
 }
 
