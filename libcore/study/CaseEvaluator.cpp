@@ -827,33 +827,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
                           "%d iterations)",
                           flow::flowStatusName(f->sequencedReport.status), f->sequencedReport.iterations);
         }
-        if (f->dissipationRetry()) {
-            // The smallest factor whose stage converged, and the closest below it that missed: where
-            // the steady flow stops being reached as the dissipation falls.
-            double smallest = 0, missed = 0;
-            for (const auto& ds : f->dissipationStages) {
-                if (ds.report.converged() && (smallest == 0 || ds.factor < smallest)) smallest = ds.factor;
-            }
-            for (const auto& ds : f->dissipationStages) {
-                if (!ds.report.converged() && ds.factor < smallest && ds.factor > missed) missed = ds.factor;
-            }
-            if (smallest > 0) {
-                why += format(" (after the first attempt stopped, %s after %d iterations, the continuation in the "
-                              "dissipation converged down to %.3g times the case's (kappa4 %.3g) but not at %.3g times "
-                              "or below: this shape's steady flow was not reached with less dissipation; it may have "
-                              "none (unsteady, separated flow); a smoother shape, or kappa2 and kappa4 %.3g times the "
-                              "case's, converge)",
-                              flow::flowStatusName(f->failedReport.status), f->failedReport.iterations, smallest,
-                              ro.dissipation.kappa4 * smallest, missed > 0 ? missed : 1.0, smallest);
-            } else {
-                std::string tried;
-                for (const auto& ds : f->dissipationStages) {
-                    tried += format("%s%g times: %s after %d iterations", tried.empty() ? "" : "; ", ds.factor,
-                                    flow::flowStatusName(ds.report.status), ds.report.iterations);
-                }
-                why += format(" (solves with more dissipation did not converge either: %s)", tried.c_str());
-            }
-        }
+        why += continuationSummary(*f, ro.dissipation.kappa4);
         e.message = why;
     } else {
         warm_ = f->q;
@@ -956,6 +930,33 @@ void DissipationContinuation::ended(bool handedOn) {
     if (from_ / half < kDissipationFinestRatio * (1 - 1e-12)) return;
     targets_.push_back(f);
     next_ = half;
+}
+
+std::string continuationSummary(const FlowResult& f, double kappa4) {
+    if (!f.dissipationRetry()) return {};
+    // The smallest factor whose stage converged, and the closest below it that missed: where the
+    // steady flow stops being reached as the dissipation falls.
+    double smallest = 0, missed = 0;
+    for (const auto& ds : f.dissipationStages) {
+        if (ds.report.converged() && (smallest == 0 || ds.factor < smallest)) smallest = ds.factor;
+    }
+    for (const auto& ds : f.dissipationStages) {
+        if (!ds.report.converged() && ds.factor < smallest && ds.factor > missed) missed = ds.factor;
+    }
+    if (smallest > 0) {
+        return format(" (after the first attempt stopped, %s after %d iterations, the continuation in the dissipation "
+                      "converged down to %.3g times the case's (kappa4 %.3g) but not %s: this shape's steady flow was "
+                      "not reached with less dissipation; it may have none (unsteady, separated flow); a smoother "
+                      "shape, or kappa2 and kappa4 %.3g times the case's, converge)",
+                      flow::flowStatusName(f.failedReport.status), f.failedReport.iterations, smallest, kappa4 * smallest,
+                      missed > 0 ? format("at %.3g times or below", missed).c_str() : "at the case's own", smallest);
+    }
+    std::string tried;
+    for (const auto& ds : f.dissipationStages) {
+        tried += format("%s%g times: %s after %d iterations", tried.empty() ? "" : "; ", ds.factor,
+                        flow::flowStatusName(ds.report.status), ds.report.iterations);
+    }
+    return format(" (solves with more dissipation did not converge either: %s)", tried.c_str());
 }
 
 double stillFalling(const flow::FlowReport& r) {

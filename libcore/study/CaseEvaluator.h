@@ -301,6 +301,11 @@ struct FlowResult {
                                             // local Mach number)
 };
 
+/// What a failed continuation in the dissipation found, for the evaluation's status: down to
+/// which factor a stage converged (and the case's kappa4 there) and the closest factor below it
+/// that did not, or, when none converged, every stage's outcome. Empty without a continuation.
+std::string continuationSummary(const FlowResult& f, double kappa4);
+
 struct Evaluation {
     EvaluationStatus status = EvaluationStatus::Ok;
     std::string message;  // the reason, when not Ok
