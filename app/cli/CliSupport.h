@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/Error.h"
+#include "flow/TimeAccurate.h"
 #include "geometry/PatchSet.h"
 #include "mesh/Quality.h"
 
@@ -85,5 +86,8 @@ int runMesh(const std::string& casePath, bool json);
 /// The flow command's work (also `aeroform --batch CASE` for cases with a "flow" section).
 int runFlow(const std::string& casePath, const std::string& restart, bool json,
             const std::vector<std::string>& adjoints = {});
+/// The flow command with --time-accurate: the case's flow forward in physical time.
+int runTimeAccurate(const std::string& casePath, const std::string& restart, const flow::TimeAccurateOptions& options,
+                    const std::string& historyCsv, bool json);
 
 }  // namespace aero::app

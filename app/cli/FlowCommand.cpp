@@ -70,6 +70,18 @@ const char* kFlowHelp =
     "                  dissipation_continuation: the first attempt and every stage of a\n"
     "                  continuation, each with status, iterations and relative_residual\n"
     "                  (its final residual over its start's), ...)\n"
+    "  --time-accurate STEPS  instead of a steady solve, run the flow forward in physical time\n"
+    "                  (dual time stepping, BDF2) for STEPS time steps from the free stream or the\n"
+    "                  restart, a line and a row of CASE.time.csv per step (t, CL, CD, CM, CY, the\n"
+    "                  steady residual, inner iterations); at the end the verdict: the flow settles\n"
+    "                  into a steady state, oscillates periodically (period, amplitude, Strouhal\n"
+    "                  number) or neither yet. For a shape whose steady solve does not converge.\n"
+    "                  The state is written to the restart file (output.restart or CASE.restart)\n"
+    "  --time-step DT  the physical time step (grid lengths over the free-stream speed of sound:\n"
+    "                  the free stream crosses a unit length in 1/Mach of these; default 0.25)\n"
+    "  --inner-iterations N  Newton iterations per time step at most (default 20)\n"
+    "  --inner-tolerance X   each time step solved to X of its first iterate's residual (1e-3)\n"
+    "  --history FILE  the time history's CSV (default CASE.time.csv)\n"
     "  --help          this text\n";
 
 std::atomic<bool> gCancel{false};
@@ -411,8 +423,48 @@ int cmdFlow(const Args& args) {
     std::vector<std::string> pos;
     std::map<std::string, std::string> val;
     std::string err;
-    if (!parse(args, {"--json"}, {"--restart", "--adjoint"}, pos, val, err)) return usageError("flow", err, kFlowHelp);
+    if (!parse(args, {"--json"},
+               {"--restart", "--adjoint", "--time-accurate", "--time-step", "--inner-iterations", "--inner-tolerance", "--history"},
+               pos, val, err)) {
+        return usageError("flow", err, kFlowHelp);
+    }
     if (pos.size() != 1) return usageError("flow", "expected exactly one CASE file", kFlowHelp);
+    const bool timeAccurate = val.count("--time-accurate") > 0;
+    for (const char* option : {"--time-step", "--inner-iterations", "--inner-tolerance", "--history"}) {
+        if (val.count(option) && !timeAccurate) return usageError("flow", std::string(option) + " needs --time-accurate", kFlowHelp);
+    }
+    if (timeAccurate) {
+        if (val.count("--adjoint")) return usageError("flow", "--adjoint needs a steady solve, not --time-accurate", kFlowHelp);
+        flow::TimeAccurateOptions ta;
+        // A positive number, the whole argument (a count: also whole).
+        auto number = [&](const char* option, double& out, bool count) {
+            const std::string& text = val[option];
+            std::size_t used = 0;
+            double x = 0;
+            try {
+                x = std::stod(text, &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used != text.size() || !(x > 0) || !std::isfinite(x) || (count && (x != std::floor(x) || x > 1e7))) {
+                err = std::string(option) + ": '" + text + "' is not a positive " + (count ? "whole number" : "number");
+                return false;
+            }
+            out = x;
+            return true;
+        };
+        double steps = 0, inner = ta.maxInner;
+        if (!number("--time-accurate", steps, true)) return usageError("flow", err, kFlowHelp);
+        ta.steps = static_cast<int>(steps);
+        if (val.count("--time-step") && !number("--time-step", ta.timeStep, false)) return usageError("flow", err, kFlowHelp);
+        if (val.count("--inner-iterations") && !number("--inner-iterations", inner, true)) return usageError("flow", err, kFlowHelp);
+        ta.maxInner = static_cast<int>(inner);
+        if (val.count("--inner-tolerance") && !number("--inner-tolerance", ta.innerTolerance, false)) {
+            return usageError("flow", err, kFlowHelp);
+        }
+        return runTimeAccurate(pos[0], val.count("--restart") ? val["--restart"] : "", ta,
+                               val.count("--history") ? val["--history"] : "", val.count("--json") > 0);
+    }
     std::vector<std::string> adjoints;
     if (val.count("--adjoint")) {
         for (const std::string& item : splitList(val["--adjoint"])) {

@@ -64,19 +64,6 @@ std::string fixedSeconds(double s) {
     return buf;
 }
 
-// Relative change of density and pressure per node for the step dq (the larger of the two).
-void relativeChanges(long nodes, const double* q, const double* dq, double gamma, std::vector<double>& out) {
-    out.resize(nodes);
-#pragma omp parallel for schedule(static)
-    for (long n = 0; n < nodes; ++n) {
-        const double* a = q + kVars * n;
-        double b[kVars];
-        for (int v = 0; v < kVars; ++v) b[v] = a[v] + dq[kVars * n + v];
-        const double pa = pressure(a, gamma), pb = pressure(b, gamma);
-        out[n] = std::max(std::abs(b[0] - a[0]) / a[0], std::abs(pb - pa) / pa);
-    }
-}
-
 }  // namespace
 
 const char* flowStatusName(FlowStatus s) {
@@ -109,6 +96,18 @@ std::vector<double> timeStepScale(const FlowMesh& fm, const std::vector<double>&
         s[n] = sum;
     }
     return s;
+}
+
+void relativeChanges(long nodes, const double* q, const double* dq, double gamma, std::vector<double>& out) {
+    out.resize(nodes);
+#pragma omp parallel for schedule(static)
+    for (long n = 0; n < nodes; ++n) {
+        const double* a = q + kVars * n;
+        double b[kVars];
+        for (int v = 0; v < kVars; ++v) b[v] = a[v] + dq[kVars * n + v];
+        const double pa = pressure(a, gamma), pb = pressure(b, gamma);
+        out[n] = std::max(std::abs(b[0] - a[0]) / a[0], std::abs(pb - pa) / pa);
+    }
 }
 
 bool isPhysical(const FlowMesh& fm, const double* q, double gamma, long* where) {
@@ -185,6 +184,9 @@ void StepSystem::assemble(const double* q, const double* r, double cfl, bool exa
     for (double& x : d_) x /= cfl;
     if (local_ && !local_->empty()) {
         for (std::size_t i = 0; i < d_.size(); ++i) d_[i] /= (*local_)[i];
+    }
+    if (time_) {
+        for (std::size_t i = 0; i < d_.size(); ++i) d_[i] += (*time_)[i];
     }
     // The last step's Krylov basis is not needed while the matrix is assembled and factored.
     if (lowMemory_) {

@@ -260,6 +260,10 @@ public:
     void assemble(const double* q, const double* r, double cfl, bool exact);
     /// Per-node factors on the CFL (empty: 1 everywhere); used by the next assemble().
     void setLocalCfl(const std::vector<double>* factors) { local_ = factors; }
+    /// A coefficient per node added to V/dt in the system matrix and the preconditioner: the
+    /// physical time derivative's a0 / (J dt) of dual time stepping (TimeAccurate.h); null: none.
+    /// Used by the next assemble().
+    void setTimeTerm(const std::vector<double>* perNode) { time_ = perNode; }
     /// Factors the preconditioner; false with the reason when a pivot is singular.
     bool factor(std::string& why);
     /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled), GMRES to
@@ -289,6 +293,7 @@ private:
     const double* q_ = nullptr;
     const double* r_ = nullptr;
     const std::vector<double>* local_ = nullptr;
+    const std::vector<double>* time_ = nullptr;
     bool exact_ = false;
     bool factored_ = false;       // ilu_ holds the factors of the last assemble()
     bool productsReady_ = false;  // jp_ holds the state of the last assemble()
@@ -317,6 +322,10 @@ FlowReport solveFlow(const FlowMesh& fm, const std::vector<double>& metrics,
 /// sum_d (|m_d . u| + c |m_d|) at every node (the V/dt of CFL = 1).
 std::vector<double> timeStepScale(const FlowMesh& fm, const std::vector<double>& metrics,
                                   const double* q, double gamma);
+
+/// The relative change of density and pressure per node (the larger of the two) that the step
+/// dq makes at q: the quantity NewtonOptions::maxRelativeChange limits.
+void relativeChanges(long nodes, const double* q, const double* dq, double gamma, std::vector<double>& out);
 
 /// Whether every node has rho > 0 and p > 0 (and finite values); `where` gets the first bad node.
 bool isPhysical(const FlowMesh& fm, const double* q, double gamma, long* where = nullptr);

@@ -83,6 +83,37 @@ FlowLocation locate(const flow::FlowMesh& fm, const std::vector<double>& x, long
     return l;
 }
 
+// The functionals and the fields a user checks the answer against, at f.q: forces, the largest
+// local Mach number and entropy change, the largest residual per volume. Returns the Mach number
+// per node.
+std::vector<double> measureFlow(FlowResult& f, const flow::ResidualOptions& ro, const flow::ForceReference& reference) {
+    f.forces = flow::integrateForces(f.mesh, f.metrics, f.x, f.q, ro.freeStream, reference);
+    const std::vector<double> s = flow::entropy(f.mesh, f.q, ro.freeStream);
+    std::vector<double> mach = flow::machNumber(f.mesh, f.q, ro.freeStream.gamma);
+    long im = 0, is = 0;
+    for (long i = 0; i < f.mesh.nodeCount; ++i) {
+        if (mach[i] > mach[im]) im = i;
+        if (std::abs(s[i]) > std::abs(s[is])) is = i;
+    }
+    f.maxMach = locate(f.mesh, f.x, im, mach[im]);
+    f.maxEntropy = locate(f.mesh, f.x, is, s[is]);
+    std::vector<double> r(5 * static_cast<std::size_t>(f.mesh.nodeCount));
+    flow::residual(f.mesh, f.metrics.data(), f.q.data(), ro, r.data());
+    long ir = 0;
+    double worst = -1;
+    for (long i = 0; i < f.mesh.nodeCount; ++i) {
+        double v = 0;
+        for (int k = 0; k < 5; ++k) v = std::max(v, std::abs(r[5 * i + k]));
+        v /= f.metrics[flow::kMetricWidth * i + 9];
+        if (v > worst) {
+            worst = v;
+            ir = i;
+        }
+    }
+    f.largestResidual = locate(f.mesh, f.x, ir, worst);
+    return mach;
+}
+
 // Grid sequencing's coarser levels at most (the 903k paper grid uses two: 123k and 21k nodes).
 constexpr int kMaxSequencingLevels = 4;
 
@@ -480,7 +511,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         q = warm_;  // the tolerance stays relative to this grid's free-stream residual (above)
         f->warmStarted = true;
         say("warm start from the last converged state");
-    } else if (request.sequencing.value_or(case_.flow.gridSequencing) && mesh_ &&
+    } else if (!request.timeAccurate && request.sequencing.value_or(case_.flow.gridSequencing) && mesh_ &&
                f->mesh.nodeCount >= case_.flow.sequencingNodes) {
         // Grid sequencing: the same analytic grid sampled with half the intervals, and with half
         // of those again while the coarsest level still has sequencingNodes nodes. The coarsest
@@ -578,6 +609,50 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             }
             lastCheckpoint = std::chrono::steady_clock::now();
         };
+    }
+    if (request.timeAccurate) {
+        // Forward in physical time from the start chosen above, the forces after every step.
+        const flow::TimeAccurateOptions& ta = *request.timeAccurate;
+        flow::TimeAccurateOptions budgeted = ta;
+        if (budget > 0) budgeted.maxSeconds = budgeted.maxSeconds > 0 ? std::min(budgeted.maxSeconds, budget) : budget;
+        say(format("time-accurate: %d steps of %g (BDF2, dual time stepping), to t = %g; at most %d inner iterations "
+                   "per step, each to %g of its start",
+                   ta.steps, ta.timeStep, ta.steps * ta.timeStep, ta.maxInner, ta.innerTolerance));
+        const flow::FlowReport none;
+        auto onStep = [&](const flow::TimeStepRecord& rec, const std::vector<double>& state) {
+            f->timeForces.push_back(
+                flow::integrateForces(f->mesh, f->metrics, f->x, state, ro.freeStream, case_.flow.reference));
+            const flow::ForceCoefficients& fc = f->timeForces.back();
+            if (progress) {
+                Progress p{Stage::Flow,
+                           format("step %4d  t %8.3f  CL %9.5f  CD %9.5f  steady residual %.3e  inner %2d (%.1e)  GMRES %4d  "
+                                  "%7.1f s",
+                                  rec.step, rec.time, fc.CL, fc.CD, rec.steadyResidual, rec.innerIterations,
+                                  rec.innerReduction, rec.linearIterations, rec.seconds),
+                           nullptr, false};
+                p.fraction = static_cast<double>(rec.step) / ta.steps;
+                p.timeStep = &rec;
+                p.forces = &fc;
+                progress(p);
+            }
+            if (checkpoint) checkpoint(state, none);  // a state to start from, not a steady run to continue
+        };
+        f->timeAccurate = flow::solveTimeAccurate(f->mesh, f->metrics, ro, q, no, budgeted, onStep, cancel);
+        f->q = std::move(q);
+        measureFlow(*f, ro, case_.flow.reference);
+        std::vector<double> lift;
+        for (const flow::ForceCoefficients& fc : f->timeForces) lift.push_back(fc.CL);
+        f->timeVerdict = flow::describeUnsteadiness(f->timeAccurate, lift, no.relativeTolerance,
+                                                    case_.flow.reference.length, ro.freeStream.mach);
+        if (f->timeAccurate.cancelled) {
+            e.status = EvaluationStatus::Cancelled;
+            e.message = f->timeAccurate.message;
+        } else if (!f->timeAccurate.completed) {
+            e.status = EvaluationStatus::FlowNotConverged;
+            e.message = "the time-accurate run stopped: " + f->timeAccurate.message + "; so far " + f->timeVerdict;
+        }
+        e.secondsFlow = since(t);
+        return;
     }
     flow::NewtonOptions first = no;
     const bool warmCapped = f->warmStarted && request.warmIterations && *request.warmIterations < no.maxIterations;
@@ -735,34 +810,7 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
         }
     }
     f->q = std::move(q);
-
-    // Functionals and the fields a user checks the answer against.
-    f->forces = flow::integrateForces(f->mesh, f->metrics, f->x, f->q, ro.freeStream, case_.flow.reference);
-    const std::vector<double> s = flow::entropy(f->mesh, f->q, ro.freeStream);
-    const std::vector<double> mach = flow::machNumber(f->mesh, f->q, ro.freeStream.gamma);
-    long im = 0, is = 0;
-    for (long i = 0; i < f->mesh.nodeCount; ++i) {
-        if (mach[i] > mach[im]) im = i;
-        if (std::abs(s[i]) > std::abs(s[is])) is = i;
-    }
-    f->maxMach = locate(f->mesh, f->x, im, mach[im]);
-    f->maxEntropy = locate(f->mesh, f->x, is, s[is]);
-    {
-        std::vector<double> r(n);
-        flow::residual(f->mesh, f->metrics.data(), f->q.data(), ro, r.data());
-        long ir = 0;
-        double worst = -1;
-        for (long i = 0; i < f->mesh.nodeCount; ++i) {
-            double v = 0;
-            for (int k = 0; k < 5; ++k) v = std::max(v, std::abs(r[5 * i + k]));
-            v /= f->metrics[flow::kMetricWidth * i + 9];
-            if (v > worst) {
-                worst = v;
-                ir = i;
-            }
-        }
-        f->largestResidual = locate(f->mesh, f->x, ir, worst);
-    }
+    const std::vector<double> mach = measureFlow(*f, ro, case_.flow.reference);
 
     if (f->report.status == flow::FlowStatus::Cancelled) {
         e.status = EvaluationStatus::Cancelled;

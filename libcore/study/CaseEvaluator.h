@@ -25,6 +25,7 @@
 #include "flow/FlowMesh.h"
 #include "flow/FlowSolver.h"
 #include "flow/Outputs.h"
+#include "flow/TimeAccurate.h"
 #include "io/CaseFile.h"
 #include "mesh/Elasticity.h"
 #include "mesh/Quality.h"
@@ -51,6 +52,8 @@ struct Progress {
     int iterationOffset = 0;  // iterations done before this run (a continued restart; for a
                               // pre-solve, those of the coarser levels before it)
     double fraction = -1;     // how much of the stage is done, in [0, 1] (-1: unknown)
+    const flow::TimeStepRecord* timeStep = nullptr;  // a time-accurate run's step just taken ...
+    const flow::ForceCoefficients* forces = nullptr; // ... and the forces after it
 };
 using ProgressFn = std::function<void(const Progress&)>;
 
@@ -150,6 +153,11 @@ struct EvaluationRequest {
     std::optional<bool> stallModes;  // a solve that does not converge looks for its growing modes
                                      // (unset: the case's flow.stall_modes)
     std::optional<FlowStart> start;  // overrides the warm start (e.g. a restart file)
+    std::optional<flow::TimeAccurateOptions> timeAccurate;  // set: the flow stage runs forward in
+                                     // physical time from its start (dual time stepping,
+                                     // flow/TimeAccurate.h) instead of solving for a steady state;
+                                     // no grid sequencing, retries or continuation (FlowResult::
+                                     // timeAccurate, timeForces, timeVerdict)
     std::optional<double> alphaDeg;  // the angle of attack (unset: the case's flow.alpha)
     std::string checkpointFile;      // non-empty: during the flow solve (the full grid's), the state
                                      // is written to this restart file (io::writeRestart, atomic)
@@ -293,6 +301,11 @@ struct FlowResult {
     flow::ForceCoefficients forces;
     FlowLocation maxMach, maxEntropy;       // largest local Mach number, largest |s - s_inf|
     FlowLocation largestResidual;           // largest |R| per unit volume at the final state
+    /// A time-accurate run (EvaluationRequest::timeAccurate): its steps, the forces after each,
+    /// and what the flow does (settles, oscillates periodically, neither yet: describeUnsteadiness).
+    flow::TimeAccurateReport timeAccurate;
+    std::vector<flow::ForceCoefficients> timeForces;
+    std::string timeVerdict;
     /// A solve that did not converge (flow.stall_modes): the linear modes of the pseudo-time
     /// dynamics at its final state (adjoint/FlowModes.h); `modesChecked` false when not looked for.
     bool modesChecked = false;

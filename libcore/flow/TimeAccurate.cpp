@@ -1,0 +1,270 @@
+#include "flow/TimeAccurate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "common/Error.h"
+#include "flow/ChunkedSum.h"
+#include "flow/Metrics.h"
+
+namespace aero::flow {
+
+namespace {
+
+double norm2(const std::vector<double>& v) {
+    return std::sqrt(chunkedDot(static_cast<long>(v.size()), v.data(), v.data()));
+}
+
+std::string format3(const char* fmt, double a, double b = 0, double c = 0) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, fmt, a, b, c);
+    return buf;
+}
+
+// A pseudo-time CFL cut after a rejected inner iteration: from Newton's (no pseudo-time term) to
+// kFirstCut, then by 10 each time.
+constexpr double kFirstCut = 100.0;
+
+}  // namespace
+
+TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,
+                                     std::vector<double>& q, const NewtonOptions& n, const TimeAccurateOptions& t,
+                                     const TimeStepFn& onStep, const std::atomic<bool>* cancel) {
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    const long N = fm.nodeCount, nv = kVars * N;
+    const double gamma = o.freeStream.gamma;
+    if (!(t.timeStep > 0) || t.steps < 1 || t.maxInner < 1) {
+        throw InputError(format3("time-accurate solve: the time step (%g) must be positive and the steps (%g) and inner "
+                                 "iterations (%g) at least 1",
+                                 t.timeStep, t.steps, t.maxInner));
+    }
+    if (q.empty()) q = freeStreamState(fm, o.freeStream);
+    if (static_cast<long>(q.size()) != nv || static_cast<long>(metrics.size()) != kMetricWidth * N) {
+        throw Error("time-accurate solve: state or metrics do not match the mesh");
+    }
+    TimeAccurateReport rep;
+    auto finish = [&](const std::string& why) {
+        rep.message = why;
+        rep.seconds = elapsed();
+        return rep;
+    };
+    if (!isPhysical(fm, q.data(), gamma)) return finish("the initial state has non-positive density or pressure");
+
+    std::vector<double> r(nv), rs(nv), dq(nv), qNew(nv), rNew(nv), rsNew(nv), change;
+    residual(fm, metrics.data(), q.data(), o, r.data());
+    rep.referenceResidual = n.referenceResidual > 0 ? n.referenceResidual : norm2(r);
+    if (!(rep.referenceResidual > 0)) rep.referenceResidual = 1.0;  // a uniform flow on a closed grid
+    const double dt = t.timeStep;
+    std::vector<double> jinv(N), timeTerm(N);
+    for (long i = 0; i < N; ++i) jinv[i] = metrics[kMetricWidth * i + 9];
+    std::vector<double> qn = q, qm;  // q^n and q^(n-1) (empty before the second step)
+    double a0 = 1, a1 = 1, a2 = 0;
+    // R*(state) from R(state) = steady; its norm.
+    auto unsteady = [&](const std::vector<double>& state, const std::vector<double>& steady, std::vector<double>& out) {
+        const bool two = !qm.empty();
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < nv; ++i) {
+            const double older = two ? a2 * qm[i] : 0.0;
+            out[i] = steady[i] + jinv[i / kVars] * (a0 * state[i] - a1 * qn[i] + older) / dt;
+        }
+        return norm2(out);
+    };
+    const NewtonOptions inner = n;  // (the step system keeps a reference)
+    StepSystem system(fm, metrics, o, inner);
+    system.setTimeTerm(&timeTerm);
+    double time = 0;
+    for (int step = 1; step <= t.steps; ++step) {
+        if (cancel && cancel->load()) {
+            rep.cancelled = true;
+            return finish("cancelled after " + std::to_string(step - 1) + " time steps");
+        }
+        if (t.maxSeconds > 0 && elapsed() >= t.maxSeconds) {
+            return finish(format3("stopped by the time limit after %g time steps (t = %g, %.4g s)", step - 1, time, elapsed()));
+        }
+        const bool bdf2 = !qm.empty();
+        a0 = bdf2 ? 1.5 : 1.0;
+        a1 = bdf2 ? 2.0 : 1.0;
+        a2 = bdf2 ? 0.5 : 0.0;
+        for (long i = 0; i < N; ++i) timeTerm[i] = a0 * jinv[i] / dt;
+        // The first iterate: the state extrapolated linearly in time (second order, so the inner
+        // iterations start within O(dt^2) of the answer), or q^n when that is not physical.
+        if (bdf2) {
+            for (long i = 0; i < nv; ++i) qNew[i] = 2.0 * qn[i] - qm[i];
+            if (isPhysical(fm, qNew.data(), gamma)) q.swap(qNew);
+        }
+        residual(fm, metrics.data(), q.data(), o, r.data());
+        double Rs = unsteady(q, r, rs);
+        const double Rs0 = Rs;
+        const double target = std::max({t.innerTolerance * Rs0, n.relativeTolerance * rep.referenceResidual, n.absoluteTolerance});
+        TimeStepRecord rec;
+        rec.step = step;
+        double cfl = t.pseudoCfl > 0 ? t.pseudoCfl : n.cflMax;
+        int rejections = 0;
+        std::string why;
+        while (Rs > target) {
+            if (rec.innerIterations >= t.maxInner) {
+                return finish(format3("time step %g (t = %g): the inner iterations reduced the unsteady residual only to "
+                                      "%.3e of its start",
+                                      step, time + dt, Rs / Rs0) +
+                              " in " + std::to_string(t.maxInner) + " iterations: a smaller time step (or more inner iterations)");
+            }
+            if (cancel && cancel->load()) {
+                rep.cancelled = true;
+                return finish("cancelled during time step " + std::to_string(step));
+            }
+            system.assemble(q.data(), r.data(), cfl, true);
+            bool ok = system.factor(why);
+            if (ok) {
+                const GmresReport g = system.solve(rs.data(), dq.data(), n.linearTolerance);
+                rec.linearIterations += g.iterations;
+                rep.linearIterations += g.iterations;
+                ok = g.relativeResidual <= n.linearFailure;
+                if (!ok) why = format3("GMRES reduced the linear residual only to %.3e", g.relativeResidual);
+            }
+            double Rnew = 0;
+            if (ok) {
+                relativeChanges(N, q.data(), dq.data(), gamma, change);
+                const double worst = *std::max_element(change.begin(), change.end());
+                double alpha = worst > n.maxRelativeChange ? n.maxRelativeChange / worst : 1.0;
+                bool physical = false;
+                for (int tries = 0; tries < 10 && !physical; ++tries) {
+                    for (long i = 0; i < nv; ++i) qNew[i] = q[i] + alpha * dq[i];
+                    physical = isPhysical(fm, qNew.data(), gamma);
+                    if (!physical) alpha *= 0.5;
+                }
+                ok = physical;
+                if (!ok) why = "the update makes density or pressure negative";
+            }
+            if (ok) {
+                residual(fm, metrics.data(), qNew.data(), o, rNew.data());
+                Rnew = unsteady(qNew, rNew, rsNew);
+                ok = std::isfinite(Rnew) && Rnew < 10.0 * Rs;
+                if (!ok) why = format3("the unsteady residual would grow %.3g times", Rnew / Rs);
+            }
+            if (!ok) {
+                if (++rejections > n.maxRejections) {
+                    return finish(format3("time step %g (t = %g): %g inner iterations in a row rejected", step, time + dt,
+                                          rejections) +
+                                  " (last: " + why + "): a smaller time step");
+                }
+                cfl = std::min(0.1 * cfl, kFirstCut);
+                continue;
+            }
+            q.swap(qNew);
+            r.swap(rNew);
+            rs.swap(rsNew);
+            Rs = Rnew;
+            rejections = 0;
+            ++rec.innerIterations;
+            cfl = std::min(n.cflMax, 10.0 * cfl);
+        }
+        time += dt;
+        double rate = 0;
+        for (long i = 0; i < nv; ++i) rate += (q[i] - qn[i]) * (q[i] - qn[i]);
+        rec.rate = std::sqrt(rate / static_cast<double>(nv)) / dt;
+        rec.time = time;
+        rec.innerReduction = Rs0 > 0 ? Rs / Rs0 : 0.0;
+        rec.steadyResidual = norm2(r) / rep.referenceResidual;
+        rec.seconds = elapsed();
+        qm.swap(qn);
+        qn = q;
+        rep.history.push_back(rec);
+        if (onStep) onStep(rec, q);
+    }
+    rep.completed = true;
+    rep.seconds = elapsed();
+    return rep;
+}
+
+SignalSummary summarizeSignal(const std::vector<double>& t, const std::vector<double>& y, double from) {
+    SignalSummary s;
+    const std::size_t size = std::min(t.size(), y.size());
+    if (size == 0) return s;
+    const std::size_t w0 = std::min(size - 1, static_cast<std::size_t>(std::clamp(from, 0.0, 1.0) * static_cast<double>(size)));
+    double sum = 0;
+    s.minimum = s.maximum = y[w0];
+    for (std::size_t i = w0; i < size; ++i) {
+        sum += y[i];
+        s.minimum = std::min(s.minimum, y[i]);
+        s.maximum = std::max(s.maximum, y[i]);
+    }
+    s.mean = sum / static_cast<double>(size - w0);
+    const double range = s.maximum - s.minimum;
+    s.drift = range > 0 ? std::abs(y[size - 1] - y[w0]) / range : 0.0;
+    // Upward crossings of the mean, each at its interpolated time; the samples between two of
+    // them are one cycle.
+    std::vector<double> when;
+    std::vector<std::size_t> at;
+    for (std::size_t i = w0 + 1; i < size; ++i) {
+        if (y[i - 1] < s.mean && y[i] >= s.mean) {
+            const double f = (s.mean - y[i - 1]) / (y[i] - y[i - 1]);
+            when.push_back(t[i - 1] + f * (t[i] - t[i - 1]));
+            at.push_back(i);
+        }
+    }
+    if (when.size() < 2) return s;
+    s.cycles = static_cast<int>(when.size()) - 1;
+    double shortest = when[1] - when[0], longest = shortest;
+    for (std::size_t k = 1; k + 1 < when.size(); ++k) {
+        shortest = std::min(shortest, when[k + 1] - when[k]);
+        longest = std::max(longest, when[k + 1] - when[k]);
+    }
+    s.period = (when.back() - when.front()) / s.cycles;
+    s.periodSpread = (longest - shortest) / s.period;
+    if (s.cycles >= 2) {
+        auto cycleRange = [&](std::size_t a, std::size_t b) {
+            const auto [lo, hi] = std::minmax_element(y.begin() + static_cast<long>(a), y.begin() + static_cast<long>(b));
+            return *hi - *lo;
+        };
+        const double first = cycleRange(at[0], at[1]);
+        s.amplitudeRatio = first > 0 ? cycleRange(at[at.size() - 2], at.back()) / first : 0.0;
+    }
+    return s;
+}
+
+std::string describeUnsteadiness(const TimeAccurateReport& r, const std::vector<double>& lift, double steadyTolerance,
+                                 double referenceLength, double mach) {
+    if (r.history.empty()) return "no time step was taken";
+    const TimeStepRecord& last = r.history.back();
+    const std::size_t size = r.history.size();
+    std::vector<double> t(size);
+    for (std::size_t i = 0; i < size; ++i) t[i] = r.history[i].time;
+    const SignalSummary s = summarizeSignal(t, lift, 0.5);
+    const double earlier = r.history[size / 2].steadyResidual;
+    const std::string lasting = format3(" after t = %g (%g time steps)", last.time, static_cast<double>(size));
+    if (last.steadyResidual <= steadyTolerance) {
+        return "the flow settled into a steady state" + lasting +
+               format3(": its steady residual is %.3e of the free stream's; the steady solver converges from this state",
+                       last.steadyResidual);
+    }
+    if (earlier > 10.0 * last.steadyResidual) {
+        return "the flow is settling" + lasting +
+               format3(": its steady residual fell from %.3e to %.3e over the second half (CL %.4f); a longer run, or a "
+                       "steady solve from this state, should converge",
+                       earlier, last.steadyResidual, lift.empty() ? 0.0 : lift.back());
+    }
+    const std::string range = format3("CL oscillates between %.4f and %.4f (mean %.4f)", s.minimum, s.maximum, s.mean);
+    if (s.cycles >= 3 && s.periodSpread < 0.2 && s.amplitudeRatio > 0.5) {
+        const double strouhal = s.period > 0 && mach > 0 ? referenceLength / (s.period * mach) : 0.0;
+        return "the flow is unsteady and periodic" + lasting + ": " + range +
+               format3(" with period %.4g (Strouhal number %.3g on the reference length), the last cycle's amplitude %.2f "
+                       "times the first's",
+                       s.period, strouhal, s.amplitudeRatio) +
+               format3(" over %g cycles; its steady residual stays at %.3e: the flow does not settle into a steady state "
+                       "(a steady solution at this dissipation, if there is one, is unstable)",
+                       s.cycles, last.steadyResidual);
+    }
+    if (s.cycles >= 2 && s.amplitudeRatio > 0 && s.amplitudeRatio <= 0.5) {
+        return "the flow oscillates with a decaying amplitude" + lasting + ": " + range +
+               format3(", the last cycle's amplitude %.2f times the first's (period %.4g): it may settle; run longer",
+                       s.amplitudeRatio, s.period);
+    }
+    return "the flow has not settled" + lasting + ": over the second half " +
+           format3("CL ranges over %.4f to %.4f (%g full cycles about its mean)", s.minimum, s.maximum, s.cycles) +
+           format3(" and its steady residual is %.3e; run longer", last.steadyResidual);
+}
+
+}  // namespace aero::flow
