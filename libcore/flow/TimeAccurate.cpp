@@ -27,6 +27,14 @@ std::string format3(const char* fmt, double a, double b = 0, double c = 0) {
 // kFirstCut, then by 10 each time.
 constexpr double kFirstCut = 100.0;
 
+// The verdict: a flow whose steady residual fell by more than this factor over the second half of
+// the run is settling (the 4k blended-wing sample from the free stream, dt 2: 4.4 times from t = 60
+// to 120, its lift within 4e-4 of the steady answer) ...
+constexpr double kSettling = 3.0;
+// ... and a lift that oscillates by less than this (peak to peak) is no unsteadiness a user needs
+// to know of (that run's lift crosses its mean twice in the second half by 4e-4).
+constexpr double kNegligibleLift = 1e-3;
+
 }  // namespace
 
 TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<double>& metrics, const ResidualOptions& o,
@@ -89,14 +97,24 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
         a1 = bdf2 ? 2.0 : 1.0;
         a2 = bdf2 ? 0.5 : 0.0;
         for (long i = 0; i < N; ++i) timeTerm[i] = a0 * jinv[i] / dt;
-        // The first iterate: the state extrapolated linearly in time (second order, so the inner
-        // iterations start within O(dt^2) of the answer), or q^n when that is not physical.
-        if (bdf2) {
-            for (long i = 0; i < nv; ++i) qNew[i] = 2.0 * qn[i] - qm[i];
-            if (isPhysical(fm, qNew.data(), gamma)) q.swap(qNew);
-        }
+        // The first iterate: q^n, or the state extrapolated linearly in time when that is physical
+        // and closer to the answer (second order where the flow is smooth in time; after an
+        // impulsive start it overshoots).
         residual(fm, metrics.data(), q.data(), o, r.data());
         double Rs = unsteady(q, r, rs);
+        if (bdf2) {
+            for (long i = 0; i < nv; ++i) qNew[i] = 2.0 * qn[i] - qm[i];
+            if (isPhysical(fm, qNew.data(), gamma)) {
+                residual(fm, metrics.data(), qNew.data(), o, rNew.data());
+                const double extrapolated = unsteady(qNew, rNew, rsNew);
+                if (extrapolated < Rs) {
+                    q.swap(qNew);
+                    r.swap(rNew);
+                    rs.swap(rsNew);
+                    Rs = extrapolated;
+                }
+            }
+        }
         const double Rs0 = Rs;
         const double target = std::max({t.innerTolerance * Rs0, n.relativeTolerance * rep.referenceResidual, n.absoluteTolerance});
         TimeStepRecord rec;
@@ -115,14 +133,28 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
                 rep.cancelled = true;
                 return finish("cancelled during time step " + std::to_string(step));
             }
-            system.assemble(q.data(), r.data(), cfl, true);
-            bool ok = system.factor(why);
-            if (ok) {
+            // The exact Jacobian of R* as the system matrix; when GMRES cannot solve that with the
+            // approximate Jacobian's ILU, the approximate Jacobian itself (an approximate Newton
+            // step), then more lumping in it (kept for the run), as the steady solver does.
+            auto linear = [&] {
                 const GmresReport g = system.solve(rs.data(), dq.data(), n.linearTolerance);
                 rec.linearIterations += g.iterations;
                 rep.linearIterations += g.iterations;
-                ok = g.relativeResidual <= n.linearFailure;
-                if (!ok) why = format3("GMRES reduced the linear residual only to %.3e", g.relativeResidual);
+                if (g.relativeResidual <= n.linearFailure) return true;
+                why = format3("GMRES reduced the linear residual only to %.3e", g.relativeResidual);
+                return false;
+            };
+            why.clear();
+            system.assemble(q.data(), r.data(), cfl, true);
+            bool ok = system.factor(why) && linear();
+            if (!ok && why.rfind("GMRES", 0) == 0) {
+                system.useApproximate();
+                ok = linear();
+            }
+            while (!ok && system.lumping() < n.maxLumping) {
+                system.setLumping(std::min(n.maxLumping, 2.0 * system.lumping()));
+                system.assemble(q.data(), r.data(), cfl, false);
+                ok = system.factor(why) && linear();
             }
             double Rnew = 0;
             if (ok) {
@@ -240,14 +272,14 @@ std::string describeUnsteadiness(const TimeAccurateReport& r, const std::vector<
                format3(": its steady residual is %.3e of the free stream's; the steady solver converges from this state",
                        last.steadyResidual);
     }
-    if (earlier > 10.0 * last.steadyResidual) {
+    if (earlier > kSettling * last.steadyResidual) {
         return "the flow is settling" + lasting +
                format3(": its steady residual fell from %.3e to %.3e over the second half (CL %.4f); a longer run, or a "
                        "steady solve from this state, should converge",
                        earlier, last.steadyResidual, lift.empty() ? 0.0 : lift.back());
     }
     const std::string range = format3("CL oscillates between %.4f and %.4f (mean %.4f)", s.minimum, s.maximum, s.mean);
-    if (s.cycles >= 3 && s.periodSpread < 0.2 && s.amplitudeRatio > 0.5) {
+    if (s.cycles >= 3 && s.periodSpread < 0.2 && s.amplitudeRatio > 0.5 && s.maximum - s.minimum > kNegligibleLift) {
         const double strouhal = s.period > 0 && mach > 0 ? referenceLength / (s.period * mach) : 0.0;
         return "the flow is unsteady and periodic" + lasting + ": " + range +
                format3(" with period %.4g (Strouhal number %.3g on the reference length), the last cycle's amplitude %.2f "

@@ -688,6 +688,63 @@ TEST(Cli, FlowReportsEveryAttemptOfTheContinuationInTheDissipation) {
     EXPECT_NE(r.err.find("(relative residual "), std::string::npos) << r.err;
 }
 
+// aeroform-cli flow --time-accurate on the blended-wing sample at CI size (refine 0.3): from the
+// free stream the run writes a row per step and a state; from the converged steady state it
+// stays there (the time term vanishes at a steady state) and says the flow settled; bad values
+// are usage errors.
+TEST(Cli, FlowTimeAccurateWritesTheLiftHistoryAndSaysWhetherTheFlowSettles) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/bwb_flow.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["output"] = nlohmann::json::object();
+    const std::string steadyRestart = tmp("time_steady.restart");
+    c["output"]["restart"] = steadyRestart;
+    const std::string path = tmp("time_case.json");
+    std::ofstream(path) << c.dump(1);
+    const Result steady = run("flow '" + path + "' --json");
+    ASSERT_EQ(steady.code, 0) << steady.err;
+    const double cl = nlohmann::json::parse(steady.out)["CL"].get<double>();
+
+    // From the free stream: 6 steps of 0.5, each a row of the history.
+    const std::string restart = tmp("time_run.restart");
+    c["output"]["restart"] = restart;
+    std::ofstream(path) << c.dump(1);
+    const std::string history = tmp("time_history.csv");
+    std::filesystem::remove(history);
+    const Result r = run("flow '" + path + "' --time-accurate 6 --time-step 0.5 --history '" + history + "' --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["completed"].get<bool>());
+    EXPECT_EQ(j["steps"], 6);
+    EXPECT_NEAR(j["time"].get<double>(), 3.0, 1e-12);
+    EXPECT_GT(j["steady_residual"].get<double>(), 1e-6);  // 3 time units after the start: not steady yet
+    EXPECT_NE(r.err.find("time-accurate: 6 steps of 0.5"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("step    6  t    3.000  CL"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("verdict: "), std::string::npos) << r.err;
+    std::ifstream in(history);
+    std::string line;
+    int rows = 0;
+    std::getline(in, line);
+    EXPECT_EQ(line.rfind("step,time,CL,CD,CM,CY,steady_residual,", 0), 0u) << line;
+    while (std::getline(in, line)) ++rows;
+    EXPECT_EQ(rows, 6);
+    EXPECT_TRUE(std::filesystem::exists(restart));
+
+    // From the converged steady state: it stays (CL to 1e-7) and the verdict says so.
+    const Result settled = run("flow '" + path + "' --restart '" + steadyRestart + "' --time-accurate 3 --time-step 1 --json");
+    ASSERT_EQ(settled.code, 0) << settled.err;
+    const auto s = nlohmann::json::parse(settled.out);
+    EXPECT_NEAR(s["CL"].get<double>(), cl, 1e-7);
+    EXPECT_LT(s["steady_residual"].get<double>(), 1e-9);
+    EXPECT_EQ(s["verdict"].get<std::string>().rfind("the flow settled into a steady state", 0), 0u) << s["verdict"];
+
+    EXPECT_EQ(run("flow '" + path + "' --time-accurate 5 --time-step 0").code, 2);
+    EXPECT_EQ(run("flow '" + path + "' --time-accurate 2.5").code, 2);
+    const Result alone = run("flow '" + path + "' --time-step 0.1");
+    EXPECT_EQ(alone.code, 2);
+    EXPECT_NE(alone.err.find("--time-step needs --time-accurate"), std::string::npos) << alone.err;
+}
+
 // aeroform-cli sweep on the blended-wing sample at CI size (refine 0.3, 4,320 nodes): the case's
 // design and one random design converge, the CSV has a row per design with the counts; --no-flow
 // checks shapes and grids only; bad options are usage errors.
