@@ -402,6 +402,12 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
         if (rep.status == flow::FlowStatus::Cancelled ||
             (rep.status == flow::FlowStatus::TimeLimit && fr.dissipationStages.empty())) {
             say("continue with: aeroform-cli flow " + casePath + " --restart " + restartTo);
+        } else if (!rep.converged() && !restartTo.empty() &&
+                   (rep.status == flow::FlowStatus::Stalled || fr.dissipationRetry())) {
+            // A stall the continuation did not cure: whether this shape's flow is unsteady is
+            // what a time-accurate run from the state reached tells (flow/TimeAccurate.h).
+            say("whether this flow is unsteady: aeroform-cli flow " + casePath + " --restart " + restartTo +
+                " --time-accurate 400 --time-step 0.5");
         }
         return rep.converged() && adjointsOk ? kOk : kFailed;
     });

@@ -1,9 +1,9 @@
 // aeroform-cli flow CASE --time-accurate STEPS --time-step DT: the case's flow run forward in
 // physical time (dual time stepping, flow/TimeAccurate.h) from the free stream or a restart,
 // with a line and a CSV row per time step (t, CL, CD, CM, CY, the steady residual, the inner
-// iterations), and at the end what the flow does: settles into a steady state, oscillates
-// periodically (period, Strouhal number) or neither yet. For a shape whose steady solve does not
-// converge: is its flow unsteady?
+// iterations; CL and CD against t also plotted in an SVG beside it), and at the end what the
+// flow does: settles into a steady state, oscillates periodically (period, Strouhal number) or
+// neither yet. For a shape whose steady solve does not converge: is its flow unsteady?
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/CliSupport.h"
+#include "cli/SvgPlot.h"
 #include "common/Memory.h"
 #include "flow/TimeAccurate.h"
 #include "io/FlowFiles.h"
@@ -97,6 +98,22 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
         nlohmann::ordered_json outputs;
         outputs["restart"] = restartTo;
         outputs["time_history"] = historyPath;
+        // CL and CD against t, beside the history.
+        {
+            PlotSeries cl{"CL", {}}, cd{"CD", {}};
+            for (std::size_t i = 0; i < rep.history.size() && i < fr.timeForces.size(); ++i) {
+                cl.points.emplace_back(rep.history[i].time, fr.timeForces[i].CL);
+                cd.points.emplace_back(rep.history[i].time, fr.timeForces[i].CD);
+            }
+            PlotOptions po;
+            po.title = "time-accurate run of " + std::filesystem::path(casePath).filename().string() + " (time step " +
+                       nlohmann::json(ta.timeStep).dump() + ")";
+            po.xLabel = "t (grid lengths / free-stream speed of sound)";
+            po.yLabel = "force coefficient";
+            const std::string plotPath = (std::filesystem::path(historyPath).replace_extension(".svg")).string();
+            writeSvgPlot(plotPath, {cl, cd}, po);
+            outputs["time_plot"] = plotPath;
+        }
         if (!c.outputFlowVtk.empty()) {
             io::writeFlowVtm(c.outputFlowVtk, fr.mesh, fr.x, fr.q, fr.residualOptions.freeStream);
             outputs["flow_vtk"] = c.outputFlowVtk;

@@ -264,6 +264,14 @@ public:
     /// physical time derivative's a0 / (J dt) of dual time stepping (TimeAccurate.h); null: none.
     /// Used by the next assemble().
     void setTimeTerm(const std::vector<double>* perNode) { time_ = perNode; }
+    /// A new state for the exact products (r = R(q)), the preconditioner and the diagonal kept
+    /// from the last assemble(): a Newton step with a lagged preconditioner (the inner iterations
+    /// of a time step, whose Jacobian barely moves). Only after an exact assemble().
+    void setState(const double* q, const double* r) {
+        q_ = q;
+        r_ = r;
+        productsReady_ = false;
+    }
     /// Factors the preconditioner; false with the reason when a pivot is singular.
     bool factor(std::string& why);
     /// dq with (V/dt + A) dq = -r, A the exact or approximate Jacobian (as assembled), GMRES to

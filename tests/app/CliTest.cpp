@@ -686,6 +686,7 @@ TEST(Cli, FlowReportsEveryAttemptOfTheContinuationInTheDissipation) {
     EXPECT_NE(r.err.find("solves with more dissipation did not converge either: 4 times: stalled after "), std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("(relative residual "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("whether this flow is unsteady: aeroform-cli flow " + path + " --restart "), std::string::npos) << r.err;
 }
 
 // aeroform-cli flow --time-accurate on the blended-wing sample at CI size (refine 0.3): from the
@@ -729,6 +730,9 @@ TEST(Cli, FlowTimeAccurateWritesTheLiftHistoryAndSaysWhetherTheFlowSettles) {
     while (std::getline(in, line)) ++rows;
     EXPECT_EQ(rows, 6);
     EXPECT_TRUE(std::filesystem::exists(restart));
+    const std::string plot = slurp(tmp("time_history.svg"));
+    EXPECT_NE(plot.find(">CL</text>"), std::string::npos);
+    EXPECT_NE(plot.find(">CD</text>"), std::string::npos);
 
     // From the converged steady state: it stays (CL to 1e-7) and the verdict says so.
     const Result settled = run("flow '" + path + "' --restart '" + steadyRestart + "' --time-accurate 3 --time-step 1 --json");
