@@ -63,7 +63,7 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
         const std::string historyPath = !historyArg.empty() ? historyArg : besideCase(casePath, ".time.csv");
         std::ofstream history(historyPath);
         if (!history) throw InputError("cannot write the time history '" + historyPath + "'");
-        history << "step,time,CL,CD,CM,CY,steady_residual,inner_iterations,inner_reduction,gmres_iterations,seconds\n";
+        history << "step,time,CL,CD,CM,CY,steady_residual,inner_iterations,inner_reduction,gmres_iterations,seconds,time_step\n";
         history << std::setprecision(10);
         auto progress = [&](const study::Progress& p) {
             if (!p.message.empty()) say(p.message);
@@ -71,7 +71,7 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
                 const flow::TimeStepRecord& r = *p.timeStep;
                 history << r.step << ',' << r.time << ',' << p.forces->CL << ',' << p.forces->CD << ',' << p.forces->CM << ','
                         << p.forces->CY << ',' << r.steadyResidual << ',' << r.innerIterations << ',' << r.innerReduction << ','
-                        << r.linearIterations << ',' << r.seconds << '\n'
+                        << r.linearIterations << ',' << r.seconds << ',' << r.timeStep << '\n'
                         << std::flush;
             }
         };
@@ -140,6 +140,7 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
             j["time"] = rep.history.empty() ? 0.0 : rep.history.back().time;
             j["steady_residual"] = rep.history.empty() ? 0.0 : rep.history.back().steadyResidual;
             j["linear_iterations"] = rep.linearIterations;
+            j["halved_steps"] = rep.halvedSteps;
             j["CL"] = fr.forces.CL;
             j["CD"] = fr.forces.CD;
             j["CM"] = fr.forces.CM;

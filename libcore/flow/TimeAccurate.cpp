@@ -27,6 +27,10 @@ std::string format3(const char* fmt, double a, double b = 0, double c = 0) {
 // kFirstCut, then by 10 each time.
 constexpr double kFirstCut = 100.0;
 
+// A time step whose inner iterations do not converge is halved, down to this fraction of the
+// requested one.
+constexpr double kSmallestStep = 64.0;
+
 // The verdict: a flow whose steady residual fell by more than this factor over the second half of
 // the run is settling (the 4k blended-wing sample from the free stream, dt 2: 4.4 times from t = 60
 // to 120, its lift within 4e-4 of the steady answer) ...
@@ -65,45 +69,46 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
     residual(fm, metrics.data(), q.data(), o, r.data());
     rep.referenceResidual = n.referenceResidual > 0 ? n.referenceResidual : norm2(r);
     if (!(rep.referenceResidual > 0)) rep.referenceResidual = 1.0;  // a uniform flow on a closed grid
-    const double dt = t.timeStep;
     std::vector<double> jinv(N), timeTerm(N);
     for (long i = 0; i < N; ++i) jinv[i] = metrics[kMetricWidth * i + 9];
     std::vector<double> qn = q, qm;  // q^n and q^(n-1) (empty before the second step)
-    double a0 = 1, a1 = 1, a2 = 0;
+    // The step's BDF coefficients: dq/dt ~ (a0 q - a1 q^n + a2 q^(n-1)) / h. With steps of
+    // different sizes (ratio w = h / h_prev), the variable-step BDF2: a0 = (1 + 2w) / (1 + w),
+    // a1 = 1 + w, a2 = w^2 / (1 + w) (3/2, 2, 1/2 for w = 1; zero-stable for w < 1 + sqrt 2).
+    double a0 = 1, a1 = 1, a2 = 0, h = t.timeStep;
     // R*(state) from R(state) = steady; its norm.
     auto unsteady = [&](const std::vector<double>& state, const std::vector<double>& steady, std::vector<double>& out) {
         const bool two = !qm.empty();
 #pragma omp parallel for schedule(static)
         for (long i = 0; i < nv; ++i) {
             const double older = two ? a2 * qm[i] : 0.0;
-            out[i] = steady[i] + jinv[i / kVars] * (a0 * state[i] - a1 * qn[i] + older) / dt;
+            out[i] = steady[i] + jinv[i / kVars] * (a0 * state[i] - a1 * qn[i] + older) / h;
         }
         return norm2(out);
     };
     const NewtonOptions inner = n;  // (the step system keeps a reference)
     StepSystem system(fm, metrics, o, inner);
     system.setTimeTerm(&timeTerm);
-    double time = 0;
-    for (int step = 1; step <= t.steps; ++step) {
-        if (cancel && cancel->load()) {
-            rep.cancelled = true;
-            return finish("cancelled after " + std::to_string(step - 1) + " time steps");
-        }
-        if (t.maxSeconds > 0 && elapsed() >= t.maxSeconds) {
-            return finish(format3("stopped by the time limit after %g time steps (t = %g, %.4g s)", step - 1, time, elapsed()));
-        }
+    const double endTime = t.steps * t.timeStep;
+    double time = 0, previous = 0;  // previous: the last step's size (0: none yet)
+    double next = t.timeStep;       // the next step's size
+    bool cancelled = false;
+    // One time step of size h from q^n (q holds q^n on entry): true when its inner iterations
+    // converged (q then holds q^(n+1)); false with the reason in `failure`.
+    auto takeStep = [&](TimeStepRecord& rec, std::string& failure) -> bool {
         const bool bdf2 = !qm.empty();
-        a0 = bdf2 ? 1.5 : 1.0;
-        a1 = bdf2 ? 2.0 : 1.0;
-        a2 = bdf2 ? 0.5 : 0.0;
-        for (long i = 0; i < N; ++i) timeTerm[i] = a0 * jinv[i] / dt;
+        const double w = bdf2 ? h / previous : 0.0;
+        a0 = bdf2 ? (1 + 2 * w) / (1 + w) : 1.0;
+        a1 = bdf2 ? 1 + w : 1.0;
+        a2 = bdf2 ? w * w / (1 + w) : 0.0;
+        for (long i = 0; i < N; ++i) timeTerm[i] = a0 * jinv[i] / h;
         // The first iterate: q^n, or the state extrapolated linearly in time when that is physical
         // and closer to the answer (second order where the flow is smooth in time; after an
         // impulsive start it overshoots).
         residual(fm, metrics.data(), q.data(), o, r.data());
         double Rs = unsteady(q, r, rs);
         if (bdf2) {
-            for (long i = 0; i < nv; ++i) qNew[i] = 2.0 * qn[i] - qm[i];
+            for (long i = 0; i < nv; ++i) qNew[i] = qn[i] + w * (qn[i] - qm[i]);
             if (isPhysical(fm, qNew.data(), gamma)) {
                 residual(fm, metrics.data(), qNew.data(), o, rNew.data());
                 const double extrapolated = unsteady(qNew, rNew, rsNew);
@@ -117,34 +122,31 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
         }
         const double Rs0 = Rs;
         const double target = std::max({t.innerTolerance * Rs0, n.relativeTolerance * rep.referenceResidual, n.absoluteTolerance});
-        TimeStepRecord rec;
-        rec.step = step;
         double cfl = t.pseudoCfl > 0 ? t.pseudoCfl : n.cflMax;
         int rejections = 0;
         bool lagged = false;  // the next iteration keeps the preconditioner
         std::string why;
+        // The exact Jacobian of R* as the system matrix; when GMRES cannot solve that with the
+        // approximate Jacobian's ILU, the approximate Jacobian itself (an approximate Newton
+        // step), then more lumping in it (kept for the run), as the steady solver does.
+        auto linear = [&] {
+            const GmresReport g = system.solve(rs.data(), dq.data(), n.linearTolerance);
+            rec.linearIterations += g.iterations;
+            rep.linearIterations += g.iterations;
+            if (g.relativeResidual <= n.linearFailure) return true;
+            why = format3("GMRES reduced the linear residual only to %.3e", g.relativeResidual);
+            return false;
+        };
         while (Rs > target) {
             if (rec.innerIterations >= t.maxInner) {
-                return finish(format3("time step %g (t = %g): the inner iterations reduced the unsteady residual only to "
-                                      "%.3e of its start",
-                                      step, time + dt, Rs / Rs0) +
-                              " in " + std::to_string(t.maxInner) + " iterations: a smaller time step (or more inner iterations)");
+                failure = format3("the inner iterations reduced the unsteady residual only to %.3e of its start in %g iterations",
+                                  Rs / Rs0, t.maxInner);
+                return false;
             }
             if (cancel && cancel->load()) {
-                rep.cancelled = true;
-                return finish("cancelled during time step " + std::to_string(step));
-            }
-            // The exact Jacobian of R* as the system matrix; when GMRES cannot solve that with the
-            // approximate Jacobian's ILU, the approximate Jacobian itself (an approximate Newton
-            // step), then more lumping in it (kept for the run), as the steady solver does.
-            auto linear = [&] {
-                const GmresReport g = system.solve(rs.data(), dq.data(), n.linearTolerance);
-                rec.linearIterations += g.iterations;
-                rep.linearIterations += g.iterations;
-                if (g.relativeResidual <= n.linearFailure) return true;
-                why = format3("GMRES reduced the linear residual only to %.3e", g.relativeResidual);
+                cancelled = true;
                 return false;
-            };
+            }
             // After the step's first iteration the preconditioner is kept (a lagged one: the
             // Jacobian barely moves within a time step) and only the products follow the state;
             // assembled and factored again when GMRES cannot solve with it.
@@ -190,9 +192,8 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
             }
             if (!ok) {
                 if (++rejections > n.maxRejections) {
-                    return finish(format3("time step %g (t = %g): %g inner iterations in a row rejected", step, time + dt,
-                                          rejections) +
-                                  " (last: " + why + "): a smaller time step");
+                    failure = format3("%g inner iterations in a row were rejected", rejections) + " (the last: " + why + ")";
+                    return false;
                 }
                 cfl = std::min(0.1 * cfl, kFirstCut);
                 lagged = false;  // (the diagonal changes with the CFL)
@@ -208,16 +209,50 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
             lagged = system.exact() && grown == cfl;
             cfl = grown;
         }
-        time += dt;
+        rec.innerReduction = Rs0 > 0 ? Rs / Rs0 : 0.0;
+        return true;
+    };
+    for (int step = 1; time < endTime * (1 - 1e-12); ++step) {
+        if (cancel && cancel->load()) {
+            rep.cancelled = true;
+            return finish("cancelled after " + std::to_string(step - 1) + " time steps");
+        }
+        if (t.maxSeconds > 0 && elapsed() >= t.maxSeconds) {
+            return finish(format3("stopped by the time limit after %g time steps (t = %g, %.4g s)", step - 1, time, elapsed()));
+        }
+        // A step whose inner iterations fail is taken again from q^n with half the size, down to
+        // timeStep / kSmallestStep; the steps after it grow back by 2 each up to timeStep.
+        h = std::min(next, endTime - time);
+        TimeStepRecord rec;
+        rec.step = step;
+        std::string failure;
+        while (!takeStep(rec, failure)) {
+            q = qn;
+            if (cancelled) {
+                rep.cancelled = true;
+                return finish("cancelled during time step " + std::to_string(step));
+            }
+            if (h <= t.timeStep / kSmallestStep * (1 + 1e-12)) {
+                return finish(format3("time step %g (t = %g to %g): ", step, time, time + h) + failure +
+                              format3(", also with the time step halved to %g: a smaller --time-step", h));
+            }
+            h *= 0.5;
+            ++rep.halvedSteps;
+            rec = TimeStepRecord{};
+            rec.step = step;
+        }
+        time += h;
         double rate = 0;
         for (long i = 0; i < nv; ++i) rate += (q[i] - qn[i]) * (q[i] - qn[i]);
-        rec.rate = std::sqrt(rate / static_cast<double>(nv)) / dt;
+        rec.rate = std::sqrt(rate / static_cast<double>(nv)) / h;
         rec.time = time;
-        rec.innerReduction = Rs0 > 0 ? Rs / Rs0 : 0.0;
+        rec.timeStep = h;
         rec.steadyResidual = norm2(r) / rep.referenceResidual;
         rec.seconds = elapsed();
         qm.swap(qn);
         qn = q;
+        previous = h;
+        next = std::min(t.timeStep, 2.0 * h);
         rep.history.push_back(rec);
         if (onStep) onStep(rec, q);
     }
@@ -230,7 +265,10 @@ SignalSummary summarizeSignal(const std::vector<double>& t, const std::vector<do
     SignalSummary s;
     const std::size_t size = std::min(t.size(), y.size());
     if (size == 0) return s;
-    const std::size_t w0 = std::min(size - 1, static_cast<std::size_t>(std::clamp(from, 0.0, 1.0) * static_cast<double>(size)));
+    // The window: from the first sample at or after t0 + from (t_end - t0) (the steps may differ).
+    const double t0 = t[0] + std::clamp(from, 0.0, 1.0) * (t[size - 1] - t[0]);
+    std::size_t w0 = 0;
+    while (w0 + 1 < size && t[w0] < t0) ++w0;
     double sum = 0;
     s.minimum = s.maximum = y[w0];
     for (std::size_t i = w0; i < size; ++i) {

@@ -30,7 +30,10 @@ struct TimeAccurateOptions {
     double timeStep = 0.25;        // physical dt, in grid lengths over the free-stream speed of
                                    // sound (Euler.h): the free stream crosses a unit length in
                                    // 1 / Mach of these
-    int steps = 100;               // physical time steps
+    int steps = 100;               // physical time steps: the run ends at t = steps timeStep (a
+                                   // step whose inner iterations do not converge is taken again
+                                   // with half the size, down to timeStep / 64, and the steps
+                                   // after it grow back by 2 each: variable-step BDF2)
     int maxInner = 20;             // Newton iterations per time step at most
     double innerTolerance = 1e-3;  // a step is solved when ||R*|| is this factor below its value
                                    // at the step's first iterate (or below the steady tolerance:
@@ -44,6 +47,7 @@ struct TimeAccurateOptions {
 struct TimeStepRecord {
     int step = 0;
     double time = 0;                // t at the end of the step
+    double timeStep = 0;            // its size (below TimeAccurateOptions::timeStep after a halving)
     int innerIterations = 0;        // Newton iterations (accepted)
     int linearIterations = 0;       // GMRES iterations of the step
     double innerReduction = 0;      // ||R*|| at the end over its value at the step's first iterate
@@ -60,6 +64,7 @@ struct TimeAccurateReport {
     std::string message;            // the reason, when not completed
     std::vector<TimeStepRecord> history;
     int linearIterations = 0;
+    int halvedSteps = 0;            // time steps taken again with half the size
     double referenceResidual = 0;   // what TimeStepRecord::steadyResidual refers to
     double seconds = 0;
 };

@@ -626,11 +626,12 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             if (progress) {
                 Progress p{Stage::Flow,
                            format("step %4d  t %8.3f  CL %9.5f  CD %9.5f  steady residual %.3e  inner %2d (%.1e)  GMRES %4d  "
-                                  "%7.1f s",
+                                  "%7.1f s%s",
                                   rec.step, rec.time, fc.CL, fc.CD, rec.steadyResidual, rec.innerIterations,
-                                  rec.innerReduction, rec.linearIterations, rec.seconds),
+                                  rec.innerReduction, rec.linearIterations, rec.seconds,
+                                  rec.timeStep < ta.timeStep ? format("  (time step %g)", rec.timeStep).c_str() : ""),
                            nullptr, false};
-                p.fraction = static_cast<double>(rec.step) / ta.steps;
+                p.fraction = std::min(1.0, rec.time / (ta.steps * ta.timeStep));
                 p.timeStep = &rec;
                 p.forces = &fc;
                 progress(p);

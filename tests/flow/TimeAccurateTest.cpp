@@ -94,6 +94,55 @@ TEST(TimeAccurate, AnEntropyWaveTravelsAtTheFreeStreamSpeedAndTheErrorIsSecondOr
     }
 }
 
+TEST(TimeAccurate, AStepWhoseInnerIterationsFailIsHalvedAndTheStepsGrowBack) {
+    // One Newton iteration per step, which must reduce the unsteady residual 1000 times: too
+    // nonlinear a step for that at dt 0.4 (the bump crosses two cells per step), enough at a
+    // fraction of it. The run halves the steps that fail, grows the next ones back, ends exactly
+    // at t = 0.8, and is closer to the fine reference than the two full steps are
+    // (variable-step BDF2).
+    const auto box = testing::wavyBox(12, mesh::BoundaryKind::Symmetry);
+    ResidualOptions o;
+    o.freeStream.mach = 0.5;
+    const std::vector<double> reference = advance(box, o, 0.8 / 128, 0.8);
+    std::vector<double> q = entropyWave(box, o.freeStream, 0.6);
+    TimeAccurateOptions t;
+    t.timeStep = 0.4;
+    t.steps = 2;
+    NewtonOptions n;
+    n.linearTolerance = 1e-6;
+    std::vector<double> full = q;
+    const TimeAccurateReport two = solveTimeAccurate(box.fm, box.metrics, o, full, n, t);
+    ASSERT_TRUE(two.completed && two.halvedSteps == 0) << two.message;
+    t.maxInner = 1;
+    t.innerTolerance = 1e-3;
+    const TimeAccurateReport r = solveTimeAccurate(box.fm, box.metrics, o, q, n, t);
+    ASSERT_TRUE(r.completed) << r.message;
+    std::printf("%zu steps, %d halved:", r.history.size(), r.halvedSteps);
+    for (const auto& rec : r.history) std::printf(" %g", rec.timeStep);
+    std::printf("; error %.3e (two full steps: %.3e)\n", distance(q, reference), distance(full, reference));
+    EXPECT_GT(r.halvedSteps, 0);
+    EXPECT_GT(r.history.size(), 2u);
+    EXPECT_NEAR(r.history.back().time, 0.8, 1e-12);
+    double smallest = t.timeStep;
+    for (std::size_t k = 0; k < r.history.size(); ++k) {
+        smallest = std::min(smallest, r.history[k].timeStep);
+        if (k > 0) {
+            EXPECT_LE(r.history[k].timeStep, 2.0 * r.history[k - 1].timeStep * (1 + 1e-12));  // grows by 2 at most
+        }
+    }
+    EXPECT_LT(smallest, t.timeStep);
+    EXPECT_LT(distance(q, reference), 0.5 * distance(full, reference));
+    // With no halving left to try (the smallest step allowed is the step itself) the run stops
+    // and says why.
+    std::vector<double> q2 = entropyWave(box, o.freeStream, 0.6);
+    t.innerTolerance = 1e-12;
+    n.relativeTolerance = 1e-14;
+    n.linearTolerance = 0.5;  // one such Newton iteration cannot reduce the residual 1e12 times
+    const TimeAccurateReport failed = solveTimeAccurate(box.fm, box.metrics, o, q2, n, t);
+    EXPECT_FALSE(failed.completed);
+    EXPECT_NE(failed.message.find("also with the time step halved to"), std::string::npos) << failed.message;
+}
+
 TEST(TimeAccurate, ADisturbanceCarriedOutOfTheDomainSettlesIntoTheSteadyFreeStream) {
     const auto box = testing::wavyBox(10, mesh::BoundaryKind::Symmetry);
     ResidualOptions o;
