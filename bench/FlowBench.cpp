@@ -5,7 +5,8 @@
 //    product; the block ILU(1) factorization and solve of the preconditioner (args: threads,
 //    parts of its ordering; 1 part = natural order, sequential);
 //  - a full solve of the small half-sphere grid (Mach 0.5, 11,340 nodes) with iterations,
-//    GMRES iterations and peak memory as counters (args: threads, ILU parts).
+//    GMRES iterations and peak memory as counters (args: threads, ILU parts);
+//  - a time-accurate run of it from the free stream, with and without the lagged preconditioner.
 // Grids: "small" = coarse level at refine 0.5, farfield 5, wall spacing 0.05 (the solver test's);
 // "coarse" = the coarse level itself (75,140 nodes, farfield 20).
 #include <benchmark/benchmark.h>
@@ -19,6 +20,7 @@
 #include "flow/FlowSolver.h"
 #include "flow/Jacobian.h"
 #include "flow/Metrics.h"
+#include "flow/TimeAccurate.h"
 #include "geometry/HalfSphere.h"
 #include "mesh/Extrusion.h"
 
@@ -183,6 +185,38 @@ void BM_SolveHalfSphere(benchmark::State& st, const char* name) {
     st.counters["peak_memory_mb"] = peakMemoryMb();
 }
 BENCHMARK_CAPTURE(BM_SolveHalfSphere, small, "small")->Args({1, 1})->Args({2, 1})->Args({2, 2})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+// A time-accurate run (flow/TimeAccurate.h) of the small half-sphere from the free stream (an
+// impulsive start): 20 steps of 0.5. args: threads, whether the inner iterations keep the step's
+// preconditioner (1) or assemble and factor it every iteration (0).
+void BM_TimeAccurateHalfSphere(benchmark::State& st, const char* name) {
+    const Grid& g = grid(name);
+    const int threads = static_cast<int>(st.range(0));
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    flow::ResidualOptions o;
+    flow::NewtonOptions n;
+    flow::TimeAccurateOptions t;
+    t.timeStep = 0.5;
+    t.steps = 20;
+    t.lagPreconditioner = st.range(1) != 0;
+    flow::TimeAccurateReport rep;
+    for (auto _ : st) {
+        std::vector<double> q;
+        rep = flow::solveTimeAccurate(g.fm, g.metrics, o, q, n, t);
+        benchmark::DoNotOptimize(q.data());
+    }
+    omp_set_num_threads(before);
+    int inner = 0;
+    for (const auto& r : rep.history) inner += r.innerIterations;
+    st.counters["nodes"] = static_cast<double>(g.fm.nodeCount);
+    st.counters["completed"] = rep.completed;
+    st.counters["steps"] = static_cast<double>(rep.history.size());
+    st.counters["inner_iterations"] = inner;
+    st.counters["gmres_iterations"] = rep.linearIterations;
+    st.counters["peak_memory_mb"] = peakMemoryMb();
+}
+BENCHMARK_CAPTURE(BM_TimeAccurateHalfSphere, small, "small")->Args({1, 1})->Args({1, 0})->Args({2, 1})->Args({2, 0})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 }  // namespace
 

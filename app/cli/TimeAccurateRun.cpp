@@ -63,7 +63,7 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
         const std::string historyPath = !historyArg.empty() ? historyArg : besideCase(casePath, ".time.csv");
         std::ofstream history(historyPath);
         if (!history) throw InputError("cannot write the time history '" + historyPath + "'");
-        history << "step,time,CL,CD,CM,CY,steady_residual,inner_iterations,inner_reduction,gmres_iterations,seconds,time_step\n";
+        history << "step,time,CL,CD,CM,CY,steady_residual,inner_iterations,inner_reduction,gmres_iterations,seconds,time_step,max_mach\n";
         history << std::setprecision(10);
         auto progress = [&](const study::Progress& p) {
             if (!p.message.empty()) say(p.message);
@@ -71,7 +71,7 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
                 const flow::TimeStepRecord& r = *p.timeStep;
                 history << r.step << ',' << r.time << ',' << p.forces->CL << ',' << p.forces->CD << ',' << p.forces->CM << ','
                         << p.forces->CY << ',' << r.steadyResidual << ',' << r.innerIterations << ',' << r.innerReduction << ','
-                        << r.linearIterations << ',' << r.seconds << ',' << r.timeStep << '\n'
+                        << r.linearIterations << ',' << r.seconds << ',' << r.timeStep << ',' << r.maxMach << '\n'
                         << std::flush;
             }
         };
@@ -89,6 +89,14 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
         const study::FlowResult& fr = *e.flow;
         const flow::TimeAccurateReport& rep = fr.timeAccurate;
         if (!rep.completed) say("stopped: " + rep.message);
+        const study::FlowLocation& mm = fr.maxMach;
+        std::snprintf(buf, sizeof buf,
+                      "at t = %g: CL %.6f  CD %.6f  CM %.6f  CY %.6f; max Mach %.3f at block %d '%s' node (%d, %d, %d), x (%.3g, "
+                      "%.3g, %.3g), %s",
+                      rep.history.empty() ? 0.0 : rep.history.back().time, fr.forces.CL, fr.forces.CD, fr.forces.CM,
+                      fr.forces.CY, mm.value, mm.block, mm.blockName.c_str(), mm.node[0], mm.node[1], mm.node[2], mm.x[0],
+                      mm.x[1], mm.x[2], mm.boundary.c_str());
+        say(buf);
         say("verdict: " + fr.timeVerdict);
 
         io::RestartInfo info;
@@ -145,6 +153,9 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
             j["CD"] = fr.forces.CD;
             j["CM"] = fr.forces.CM;
             j["CY"] = fr.forces.CY;
+            j["max_mach"] = fr.maxMach.value;
+            j["max_mach_at"] = {{"block", fr.maxMach.block}, {"node", fr.maxMach.node}, {"x", fr.maxMach.x},
+                                {"boundary", fr.maxMach.boundary}};
             j["lift_second_half"] = {{"mean", s.mean},     {"min", s.minimum},       {"max", s.maximum},
                                      {"cycles", s.cycles}, {"period", s.period},     {"period_spread", s.periodSpread},
                                      {"amplitude_ratio", s.amplitudeRatio}, {"drift", s.drift}};

@@ -206,7 +206,7 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
             rejections = 0;
             ++rec.innerIterations;
             const double grown = std::min(n.cflMax, 10.0 * cfl);
-            lagged = system.exact() && grown == cfl;
+            lagged = t.lagPreconditioner && system.exact() && grown == cfl;
             cfl = grown;
         }
         rec.innerReduction = Rs0 > 0 ? Rs / Rs0 : 0.0;
@@ -248,6 +248,15 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
         rec.time = time;
         rec.timeStep = h;
         rec.steadyResidual = norm2(r) / rep.referenceResidual;
+        for (long i = 0; i < N; ++i) {
+            const double* a = &q[kVars * i];
+            const double speed = std::sqrt(a[1] * a[1] + a[2] * a[2] + a[3] * a[3]) / a[0];
+            const double mach = speed / std::sqrt(gamma * pressure(a, gamma) / a[0]);
+            if (mach > rec.maxMach) {
+                rec.maxMach = mach;
+                rec.maxMachNode = i;
+            }
+        }
         rec.seconds = elapsed();
         qm.swap(qn);
         qn = q;
@@ -255,6 +264,12 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
         next = std::min(t.timeStep, 2.0 * h);
         rep.history.push_back(rec);
         if (onStep) onStep(rec, q);
+        if (rec.maxMach > t.maxMach) {
+            rep.breakdownNode = rec.maxMachNode;
+            return finish(format3("at t = %g the local Mach number reached %.3g (pressure or density nearly zero): the flow "
+                                  "breaks down there",
+                                  time, rec.maxMach));
+        }
     }
     rep.completed = true;
     rep.seconds = elapsed();

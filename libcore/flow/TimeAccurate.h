@@ -42,6 +42,13 @@ struct TimeAccurateOptions {
                                    // steady solver's local time steps at this CFL (grown 10 times
                                    // per accepted iteration); 0: none (Newton on R*)
     double maxSeconds = 0;         // > 0: stop before a time step once this much wall time passed
+    double maxMach = 10;           // the run stops when the local Mach number exceeds this
+                                   // anywhere: pressure or density has collapsed to nearly zero
+                                   // (a flow that breaks down at a crease the grid does not
+                                   // resolve), not an expansion a steady flow at Mach 0.5 has
+    bool lagPreconditioner = true; // the inner iterations after a step's first keep its
+                                   // preconditioner (false: assembled and factored every
+                                   // iteration; bench/FlowBench.cpp compares the two)
 };
 
 struct TimeStepRecord {
@@ -55,6 +62,8 @@ struct TimeStepRecord {
                                     // state is from a steady one (falls towards the steady
                                     // tolerance when the flow settles)
     double rate = 0;                // rms over all values of (q^(n+1) - q^n) / dt
+    double maxMach = 0;             // the largest local Mach number after the step ...
+    long maxMachNode = -1;          // ... and where (global node)
     double seconds = 0;             // since the start
 };
 
@@ -65,6 +74,8 @@ struct TimeAccurateReport {
     std::vector<TimeStepRecord> history;
     int linearIterations = 0;
     int halvedSteps = 0;            // time steps taken again with half the size
+    long breakdownNode = -1;        // >= 0: the run stopped because the local Mach number passed
+                                    // TimeAccurateOptions::maxMach at this node (the last record's)
     double referenceResidual = 0;   // what TimeStepRecord::steadyResidual refers to
     double seconds = 0;
 };

@@ -625,9 +625,9 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             const flow::ForceCoefficients& fc = f->timeForces.back();
             if (progress) {
                 Progress p{Stage::Flow,
-                           format("step %4d  t %8.3f  CL %9.5f  CD %9.5f  steady residual %.3e  inner %2d (%.1e)  GMRES %4d  "
-                                  "%7.1f s%s",
-                                  rec.step, rec.time, fc.CL, fc.CD, rec.steadyResidual, rec.innerIterations,
+                           format("step %4d  t %8.3f  CL %9.5f  CD %9.5f  max Mach %5.2f  steady residual %.3e  inner %2d "
+                                  "(%.1e)  GMRES %4d  %7.1f s%s",
+                                  rec.step, rec.time, fc.CL, fc.CD, rec.maxMach, rec.steadyResidual, rec.innerIterations,
                                   rec.innerReduction, rec.linearIterations, rec.seconds,
                                   rec.timeStep < ta.timeStep ? format("  (time step %g)", rec.timeStep).c_str() : ""),
                            nullptr, false};
@@ -650,7 +650,12 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             e.message = f->timeAccurate.message;
         } else if (!f->timeAccurate.completed) {
             e.status = EvaluationStatus::FlowNotConverged;
-            e.message = "the time-accurate run stopped: " + f->timeAccurate.message + "; so far " + f->timeVerdict;
+            e.message = "the time-accurate run stopped: " + f->timeAccurate.message;
+            if (f->timeAccurate.breakdownNode >= 0) {
+                e.message += " (at " + describe(locate(f->mesh, f->x, f->timeAccurate.breakdownNode, 0.0)) +
+                             "; a crease or corner there that the grid does not resolve: a smoother shape or a finer grid)";
+            }
+            e.message += "; so far " + f->timeVerdict;
         }
         e.secondsFlow = since(t);
         return;

@@ -204,6 +204,27 @@ TEST(TimeAccurate, TheVerdictTellsAPeriodicFromADecayingFromAnUnsettledLift) {
     EXPECT_NEAR(summarizeSignal(t, drifting, 0.5).drift, 1.0, 1e-9);
 }
 
+TEST(TimeAccurate, StopsWhereTheLocalMachNumberPassesItsBoundAndSaysWhere) {
+    // A flow breaking down (pressure collapsing at a crease) shows as a local Mach number far
+    // above any a steady flow at Mach 0.5 has; the bound here is set below the free stream's
+    // own, so the first step passes it.
+    const auto box = testing::wavyBox(6, mesh::BoundaryKind::Symmetry);
+    ResidualOptions o;
+    o.freeStream.mach = 0.5;
+    std::vector<double> q = entropyWave(box, o.freeStream, 0.6);
+    TimeAccurateOptions t;
+    t.timeStep = 0.1;
+    t.steps = 5;
+    t.maxMach = 0.45;
+    const TimeAccurateReport r = solveTimeAccurate(box.fm, box.metrics, o, q, {}, t);
+    EXPECT_FALSE(r.completed);
+    ASSERT_EQ(r.history.size(), 1u);
+    EXPECT_GT(r.history[0].maxMach, 0.45);
+    EXPECT_EQ(r.breakdownNode, r.history[0].maxMachNode);
+    EXPECT_GE(r.breakdownNode, 0);
+    EXPECT_NE(r.message.find("the local Mach number reached"), std::string::npos) << r.message;
+}
+
 TEST(TimeAccurate, RejectsATimeStepThatIsNotPositive) {
     const auto box = testing::wavyBox(6, mesh::BoundaryKind::Symmetry);
     ResidualOptions o;
