@@ -88,7 +88,7 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
         if (!e.flow) throw GeometryError("'" + casePath + "': " + e.message + " (nothing written)");
         const study::FlowResult& fr = *e.flow;
         const flow::TimeAccurateReport& rep = fr.timeAccurate;
-        if (!rep.completed) say("stopped: " + rep.message);
+        if (!rep.completed) say(e.message.empty() ? "stopped: " + rep.message : e.message);
         const study::FlowLocation& mm = fr.maxMach;
         std::snprintf(buf, sizeof buf,
                       "at t = %g: CL %.6f  CD %.6f  CM %.6f  CY %.6f; max Mach %.3f at block %d '%s' node (%d, %d, %d), x (%.3g, "
@@ -141,7 +141,8 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
             j["case"] = casePath;
             j["time_accurate"] = true;
             j["completed"] = rep.completed;
-            j["message"] = rep.completed ? "" : rep.message;
+            j["message"] = rep.completed ? "" : (e.message.empty() ? rep.message : e.message);
+            j["breakdown"] = rep.breakdownNode >= 0;
             j["verdict"] = fr.timeVerdict;
             j["time_step"] = ta.timeStep;
             j["steps"] = rep.history.size();

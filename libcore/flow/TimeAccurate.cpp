@@ -38,6 +38,9 @@ constexpr double kSettling = 3.0;
 // ... and a lift that oscillates by less than this (peak to peak) is no unsteadiness a user needs
 // to know of (that run's lift crosses its mean twice in the second half by 4e-4).
 constexpr double kNegligibleLift = 1e-3;
+// The part of the run the lift's oscillation is judged by starts after this fraction of its time
+// (the start-up transient: from the free stream or from a steady solver's stalled state).
+constexpr double kTransient = 0.25;
 
 }  // namespace
 
@@ -332,7 +335,8 @@ std::string describeUnsteadiness(const TimeAccurateReport& r, const std::vector<
     const std::size_t size = r.history.size();
     std::vector<double> t(size);
     for (std::size_t i = 0; i < size; ++i) t[i] = r.history[i].time;
-    const SignalSummary s = summarizeSignal(t, lift, 0.5);
+    // The lift's oscillation is judged after the first quarter of the run (its start-up transient).
+    const SignalSummary s = summarizeSignal(t, lift, kTransient);
     const double earlier = r.history[size / 2].steadyResidual;
     const std::string lasting = format3(" after t = %g (%g time steps)", last.time, static_cast<double>(size));
     if (last.steadyResidual <= steadyTolerance) {
@@ -346,23 +350,32 @@ std::string describeUnsteadiness(const TimeAccurateReport& r, const std::vector<
                        "steady solve from this state, should converge",
                        earlier, last.steadyResidual, lift.empty() ? 0.0 : lift.back());
     }
-    const std::string range = format3("CL oscillates between %.4f and %.4f (mean %.4f)", s.minimum, s.maximum, s.mean);
+    const std::string range =
+        format3("over the last three quarters of the run CL oscillates between %.4f and %.4f (mean %.4f)", s.minimum,
+                s.maximum, s.mean);
+    const std::string stays = format3("; its steady residual stays at %.3e: the flow does not settle into a steady state "
+                                      "(a steady solution at this dissipation, if there is one, is unstable)",
+                                      last.steadyResidual);
     if (s.cycles >= 3 && s.periodSpread < 0.2 && s.amplitudeRatio > 0.5 && s.maximum - s.minimum > kNegligibleLift) {
         const double strouhal = s.period > 0 && mach > 0 ? referenceLength / (s.period * mach) : 0.0;
         return "the flow is unsteady and periodic" + lasting + ": " + range +
                format3(" with period %.4g (Strouhal number %.3g on the reference length), the last cycle's amplitude %.2f "
                        "times the first's",
                        s.period, strouhal, s.amplitudeRatio) +
-               format3(" over %g cycles; its steady residual stays at %.3e: the flow does not settle into a steady state "
-                       "(a steady solution at this dissipation, if there is one, is unstable)",
-                       s.cycles, last.steadyResidual);
+               format3(" over %g cycles", s.cycles) + stays;
     }
     if (s.cycles >= 2 && s.amplitudeRatio > 0 && s.amplitudeRatio <= 0.5) {
         return "the flow oscillates with a decaying amplitude" + lasting + ": " + range +
                format3(", the last cycle's amplitude %.2f times the first's (period %.4g): it may settle; run longer",
                        s.amplitudeRatio, s.period);
     }
-    return "the flow has not settled" + lasting + ": over the second half " +
+    if (s.cycles >= 1 && s.maximum - s.minimum > kNegligibleLift) {
+        return "the flow is unsteady" + lasting + ": " + range +
+               format3(", not periodically: %g cycles of mean length %.4g, their lengths differing by %.2f of it", s.cycles,
+                       s.period, s.periodSpread) +
+               stays;
+    }
+    return "the flow has not settled" + lasting + ": over the last three quarters of the run " +
            format3("CL ranges over %.4f to %.4f (%g full cycles about its mean)", s.minimum, s.maximum, s.cycles) +
            format3(" and its steady residual is %.3e; run longer", last.steadyResidual);
 }

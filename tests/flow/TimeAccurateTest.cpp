@@ -172,7 +172,7 @@ TEST(TimeAccurate, ADisturbanceCarriedOutOfTheDomainSettlesIntoTheSteadyFreeStre
 
 TEST(TimeAccurate, TheVerdictTellsAPeriodicFromADecayingFromAnUnsettledLift) {
     TimeAccurateReport r;
-    std::vector<double> periodic, decaying, drifting;
+    std::vector<double> periodic, decaying, drifting, irregular;
     for (int k = 1; k <= 200; ++k) {
         TimeStepRecord rec;
         rec.step = k;
@@ -182,6 +182,7 @@ TEST(TimeAccurate, TheVerdictTellsAPeriodicFromADecayingFromAnUnsettledLift) {
         periodic.push_back(0.3 + 0.1 * std::sin(2 * kPi * rec.time / 5.0));
         decaying.push_back(0.3 + 0.1 * std::exp(-rec.time / 6.0) * std::sin(2 * kPi * rec.time / 5.0));
         drifting.push_back(0.3 + 0.002 * rec.time);
+        irregular.push_back(0.3 + 0.1 * std::sin(2 * kPi * rec.time / 5.0) + 0.09 * std::sin(2 * kPi * rec.time / 2.3));
     }
     std::vector<double> t;
     for (const auto& rec : r.history) t.push_back(rec.time);
@@ -202,6 +203,9 @@ TEST(TimeAccurate, TheVerdictTellsAPeriodicFromADecayingFromAnUnsettledLift) {
     const std::string u = describeUnsteadiness(r, drifting, 1e-10, 1.0, 0.5);
     EXPECT_EQ(u.rfind("the flow has not settled", 0), 0u) << u;
     EXPECT_NEAR(summarizeSignal(t, drifting, 0.5).drift, 1.0, 1e-9);
+    const std::string i = describeUnsteadiness(r, irregular, 1e-10, 1.0, 0.5);
+    EXPECT_EQ(i.rfind("the flow is unsteady after", 0), 0u) << i;
+    EXPECT_NE(i.find("not periodically"), std::string::npos) << i;
 }
 
 TEST(TimeAccurate, StopsWhereTheLocalMachNumberPassesItsBoundAndSaysWhere) {
