@@ -1,6 +1,7 @@
 #include "cli/CliSupport.h"
 
 #include <cctype>
+#include <csignal>
 #include <fstream>
 #include <sstream>
 
@@ -17,7 +18,23 @@ std::string lower(std::string s) {
     return s;
 }
 
+std::atomic<bool> gCancelFlag{false};
+extern "C" void onCancelSignal(int) { gCancelFlag.store(true); }
+
 }  // namespace
+
+CancelOnSignal::CancelOnSignal() {
+    gCancelFlag.store(false);
+    oldInt_ = std::signal(SIGINT, onCancelSignal);
+    oldTerm_ = std::signal(SIGTERM, onCancelSignal);
+}
+
+CancelOnSignal::~CancelOnSignal() {
+    std::signal(SIGINT, oldInt_);
+    std::signal(SIGTERM, oldTerm_);
+}
+
+std::atomic<bool>* CancelOnSignal::flag() { return &gCancelFlag; }
 
 bool hasFlag(const Args& a, const char* flag) {
     for (const auto& s : a) {

@@ -1,6 +1,7 @@
 #pragma once
 // Shared pieces of the CLI subcommands: exit codes, argument parsing, loading and saving patch
 // sets by extension, and the exception boundary.
+#include <atomic>
 #include <filesystem>
 #include <iostream>
 #include <new>
@@ -43,6 +44,25 @@ int usageError(const char* command, const std::string& why, const char* help);
 
 /// The non-empty items of a comma-separated list ("CL,CD," -> {"CL", "CD"}).
 std::vector<std::string> splitList(const std::string& list);
+
+/// While one is alive, SIGINT (Ctrl+C) and SIGTERM set a flag instead of ending the process: the
+/// work checks it between iterations, stops and keeps its state. The flag is cleared on
+/// construction; the handlers from before come back on destruction (also when an exception
+/// leaves the scope).
+class CancelOnSignal {
+public:
+    CancelOnSignal();
+    ~CancelOnSignal();
+    CancelOnSignal(const CancelOnSignal&) = delete;
+    CancelOnSignal& operator=(const CancelOnSignal&) = delete;
+    /// The flag (one for the process, valid outside the object's life too).
+    static std::atomic<bool>* flag();
+    bool cancelled() const { return flag()->load(); }
+
+private:
+    void (*oldInt_)(int);
+    void (*oldTerm_)(int);
+};
 
 /// Runs fn, turning libcore's exceptions into a message on stderr and exit code 1.
 template <class Fn>

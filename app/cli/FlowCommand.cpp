@@ -8,7 +8,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
@@ -88,9 +87,6 @@ const char* kFlowHelp =
     "  --history FILE  the time history's CSV (default CASE.time.csv)\n"
     "  --help          this text\n";
 
-std::atomic<bool> gCancel{false};
-extern "C" void onSignal(int) { gCancel.store(true); }
-
 double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -161,12 +157,10 @@ int runFlow(const std::string& casePath, const std::string& restartArg, bool jso
                       run.flow.newton.maxIterations);
         say(buf);
 
-        gCancel.store(false);
-        auto oldInt = std::signal(SIGINT, onSignal);
-        auto oldTerm = std::signal(SIGTERM, onSignal);
-        const study::Evaluation e = ev.evaluate(ev.caseValues(), request, progress, &gCancel);
-        std::signal(SIGINT, oldInt);
-        std::signal(SIGTERM, oldTerm);
+        const study::Evaluation e = [&] {
+            const CancelOnSignal cancel;
+            return ev.evaluate(ev.caseValues(), request, progress, CancelOnSignal::flag());
+        }();
         if (!e.flow) {
             // The shape or the mesh failed: nothing was solved.
             throw GeometryError("'" + casePath + "': " + e.message + " (nothing written)");

@@ -5,7 +5,6 @@
 // again) and reaches the iterates an uninterrupted run reaches.
 #include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -54,9 +53,6 @@ const char* kHelp =
     "Ctrl+C stops at the next flow iteration (the history is kept: --resume continues it).\n"
     "Exit 0 when the optimizer converged or reached its iteration or evaluation limit, 1 when it\n"
     "failed, stalled, found no feasible design or was stopped, 2 usage error.\n";
-
-std::atomic<bool> gCancel{false};
-extern "C" void onOptimizeSignal(int) { gCancel.store(true); }
 
 void say(const std::string& s) { std::fprintf(stderr, "[optimize] %s\n", s.c_str()); }
 
@@ -163,7 +159,7 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
         study::OptimizationOptions o;
         o.resume = resume;
         o.fresh = fresh;
-        o.cancel = &gCancel;
+        o.cancel = CancelOnSignal::flag();
         o.log = say;
         o.progress = [quiet](const study::Progress& p) {
             if (quiet || !p.iteration) return;
@@ -195,12 +191,10 @@ int runOptimize(const std::string& casePath, bool resume, bool fresh, bool json,
                            r.seconds, tag));
             }
         };
-        gCancel.store(false);
-        auto oldInt = std::signal(SIGINT, onOptimizeSignal);
-        auto oldTerm = std::signal(SIGTERM, onOptimizeSignal);
-        const study::OptimizationSummary s = study::optimizeCase(ev, o);
-        std::signal(SIGINT, oldInt);
-        std::signal(SIGTERM, oldTerm);
+        const study::OptimizationSummary s = [&] {
+            const CancelOnSignal cancel;
+            return study::optimizeCase(ev, o);
+        }();
         const optimize::Result& r = s.result;
         say(format("%s after %.0f iterations, %.0f evaluations (%.0f failed), %.0f gradients: %s", optimize::statusName(r.status),
                    static_cast<double>(r.iterations), static_cast<double>(r.evaluations),

@@ -7,12 +7,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli/CliSupport.h"
@@ -56,9 +56,6 @@ const char* kSweepHelp =
     "  --json            one JSON summary on stdout\n"
     "  --help            this text\n"
     "Exit 0 when every design converged, 1 otherwise (each failure says why), 2 usage error.\n";
-
-std::atomic<bool> gCancel{false};
-extern "C" void onSweepSignal(int) { gCancel.store(true); }
 
 void say(const std::string& s) { std::fprintf(stderr, "[sweep] %s\n", s.c_str()); }
 
@@ -105,14 +102,13 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
         say(std::to_string(ev.variableCount()) + " design variables; " + std::to_string(fractions.size()) +
             " scaled designs, " + std::to_string(random) + " random (seed " + std::to_string(seed) + ", spread " +
             std::to_string(spread) + (feasible ? ", within the linear constraints" : "") + ")");
-        gCancel.store(false);
-        auto oldInt = std::signal(SIGINT, onSweepSignal);
-        auto oldTerm = std::signal(SIGTERM, onSweepSignal);
+        std::optional<CancelOnSignal> signals(std::in_place);
+        std::atomic<bool>& cancel = *CancelOnSignal::flag();
         std::vector<Row> rows;
         study::RandomDesigns designs(ev, seed, spread, feasible);
         int redrawsShape = 0, redrawsMesh = 0;
         const int total = static_cast<int>(fractions.size()) + random;
-        for (int d = 0; d < total && !gCancel.load(); ++d) {
+        for (int d = 0; d < total && !cancel.load(); ++d) {
             Row row;
             std::vector<double> v;
             if (d < static_cast<int>(fractions.size())) {
@@ -122,12 +118,12 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
                 v = study::scaledDesign(ev, fractions[d]);
             } else {
                 row.label = "random " + std::to_string(d - static_cast<int>(fractions.size()) + 1);
-                const study::ValidDraw draw = study::drawValidDesign(ev, designs, maxDraws, &gCancel);
+                const study::ValidDraw draw = study::drawValidDesign(ev, designs, maxDraws, &cancel);
                 row.redraws = draw.rejected;
                 redrawsShape += draw.rejectedShape;
                 redrawsMesh += draw.rejectedMesh;
                 if (!draw.accepted) {
-                    row.status = gCancel.load() ? "cancelled" : "no-valid-draw";
+                    row.status = cancel.load() ? "cancelled" : "no-valid-draw";
                     row.message = "no valid design in " + std::to_string(maxDraws) + " draws; the last: " + draw.lastReason;
                     rows.push_back(row);
                     continue;
@@ -150,7 +146,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             int lastIteration = 0;
             const study::Evaluation e = ev.evaluate(v, rq, [&](const study::Progress& p) {
                 if (p.iteration && p.iteration->rejected.empty() && !p.coarse) lastIteration = p.iteration->iteration;
-            }, &gCancel);
+            }, &cancel);
             row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             row.status = study::evaluationStatusName(e.status);
             row.message = e.message;
@@ -185,8 +181,7 @@ int runSweep(const std::string& casePath, const std::vector<double>& fractions, 
             if (!e.ok()) say("  why: " + e.message);
             rows.push_back(row);
         }
-        std::signal(SIGINT, oldInt);
-        std::signal(SIGTERM, oldTerm);
+        signals.reset();
 
         int converged = 0;
         for (const Row& r : rows) converged += r.converged ? 1 : 0;

@@ -6,7 +6,6 @@
 // neither yet. For a shape whose steady solve does not converge: is its flow unsteady?
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -23,9 +22,6 @@
 namespace aero::app {
 
 namespace {
-
-std::atomic<bool> gStop{false};
-extern "C" void onStopSignal(int) { gStop.store(true); }
 
 void say(const std::string& s) { std::fprintf(stderr, "[flow] %s\n", s.c_str()); }
 
@@ -79,12 +75,10 @@ int runTimeAccurate(const std::string& casePath, const std::string& restartArg, 
         std::snprintf(buf, sizeof buf, "Mach %g, alpha %g deg, kappa2 %g, kappa4 %g", run.flow.freeStream.mach,
                       run.flow.freeStream.alphaDeg, run.flow.dissipation.kappa2, run.flow.dissipation.kappa4);
         say(buf);
-        gStop.store(false);
-        auto oldInt = std::signal(SIGINT, onStopSignal);
-        auto oldTerm = std::signal(SIGTERM, onStopSignal);
-        const study::Evaluation e = ev.evaluate(ev.caseValues(), request, progress, &gStop);
-        std::signal(SIGINT, oldInt);
-        std::signal(SIGTERM, oldTerm);
+        const study::Evaluation e = [&] {
+            const CancelOnSignal cancel;
+            return ev.evaluate(ev.caseValues(), request, progress, CancelOnSignal::flag());
+        }();
         if (!e.flow) throw GeometryError("'" + casePath + "': " + e.message + " (nothing written)");
         const study::FlowResult& fr = *e.flow;
         const flow::TimeAccurateReport& rep = fr.timeAccurate;

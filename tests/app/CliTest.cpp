@@ -749,6 +749,45 @@ TEST(Cli, FlowTimeAccurateWritesTheLiftHistoryAndSaysWhetherTheFlowSettles) {
     EXPECT_NE(alone.err.find("--time-step needs --time-accurate"), std::string::npos) << alone.err;
 }
 
+// SIGTERM (as Ctrl+C's SIGINT) stops a time-accurate run between steps: it exits 1, not killed,
+// with the rows so far in its history and the state reached in its restart file.
+TEST(Cli, ATimeAccurateRunStopsOnSigtermAndKeepsItsState) {
+    nlohmann::json c = nlohmann::json::parse(slurp(kSamples + "/bwb_flow.json"));
+    c["geometry"] = kSamples + "/half_sphere.igs";
+    c["mesh"]["refine"] = 0.3;
+    c["output"] = nlohmann::json::object();
+    const std::string restart = tmp("time_stop.restart");
+    c["output"]["restart"] = restart;
+    const std::string path = tmp("time_stop.json");
+    std::ofstream(path) << c.dump(1);
+    const std::string history = tmp("time_stop.csv");
+    std::filesystem::remove(history);
+    std::filesystem::remove(restart);
+    const pid_t pid = spawnCli({"flow", path, "--time-accurate", "100000", "--time-step", "0.5", "--history", history});
+    ASSERT_GE(pid, 0);
+    int rows = 0, status = 0;
+    bool done = false;
+    for (int wait = 0; wait < 6000 && rows < 4 && !done; ++wait) {
+        std::ifstream in(history);
+        std::string line;
+        rows = -1;  // the header
+        while (std::getline(in, line)) ++rows;
+        done = ::waitpid(pid, &status, WNOHANG) == pid;
+        ::usleep(10000);
+    }
+    ASSERT_FALSE(done) << "the run ended by itself";
+    ASSERT_GE(rows, 4);
+    ::kill(pid, SIGTERM);
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status)) << "ended by the signal instead of stopping";
+    EXPECT_EQ(WEXITSTATUS(status), 1);
+    EXPECT_TRUE(std::filesystem::exists(restart));
+    // The state reached starts the next run.
+    const Result next = run("flow '" + path + "' --restart '" + restart + "' --time-accurate 1 --time-step 0.5 --json");
+    ASSERT_EQ(next.code, 0) << next.err;
+    EXPECT_NE(next.err.find("restart from " + restart + ": a flow state"), std::string::npos) << next.err;
+}
+
 // aeroform-cli sweep on the blended-wing sample at CI size (refine 0.3, 4,320 nodes): the case's
 // design and one random design converge, the CSV has a row per design with the counts; --no-flow
 // checks shapes and grids only; bad options are usage errors.
