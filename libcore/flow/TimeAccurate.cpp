@@ -155,9 +155,9 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
                 cancelled = true;
                 return false;
             }
-            // After the step's first iteration the preconditioner is kept (a lagged one: the
-            // Jacobian barely moves within a time step) and only the products follow the state;
-            // assembled and factored again when GMRES cannot solve with it.
+            // With lagPreconditioner, after the step's first iteration the preconditioner is kept
+            // and only the products follow the state; assembled and factored again when GMRES
+            // cannot solve with it.
             why.clear();
             bool ok = false;
             if (lagged) {
