@@ -653,7 +653,8 @@ void CaseEvaluator::evaluateFlow(Evaluation& e, const EvaluationRequest& request
             e.message = "the time-accurate run stopped: " + f->timeAccurate.message;
             if (f->timeAccurate.breakdownNode >= 0) {
                 e.message += " (at " + describe(locate(f->mesh, f->x, f->timeAccurate.breakdownNode, 0.0)) +
-                             "; a crease or corner there that the grid does not resolve: a smoother shape or a finer grid)";
+                             "; likely a crease or corner that the grid does not resolve: a smoother shape there or a "
+                             "finer grid)";
             }
             e.message += "; so far " + f->timeVerdict;
         }
