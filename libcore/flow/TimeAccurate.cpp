@@ -376,8 +376,10 @@ std::string describeUnsteadiness(const TimeAccurateReport& r, const std::vector<
     }
     if (s.cycles >= 1 && s.maximum - s.minimum > kNegligibleLift) {
         return "the flow is unsteady" + lasting + ": " + range +
-               format3(", not periodically: %g cycles of mean length %.4g, their lengths differing by %.2f of it", s.cycles,
-                       s.period, s.periodSpread) +
+               (s.cycles == 1 ? format3(", not periodically: one cycle, of length %.4g", s.period)
+                              : format3(", not periodically: %g cycles of mean length %.4g, their lengths differing by %.2f of "
+                                        "it",
+                                        s.cycles, s.period, s.periodSpread)) +
                stays;
     }
     return "the flow has not settled" + lasting + ": over the last three quarters of the run " +
