@@ -8,6 +8,7 @@
 #include "common/Error.h"
 #include "flow/ChunkedSum.h"
 #include "flow/Metrics.h"
+#include "flow/Outputs.h"
 
 namespace aero::flow {
 
@@ -256,15 +257,10 @@ TimeAccurateReport solveTimeAccurate(const FlowMesh& fm, const std::vector<doubl
         rec.time = time;
         rec.timeStep = h;
         rec.steadyResidual = norm2(r) / rep.referenceResidual;
-        for (long i = 0; i < N; ++i) {
-            const double* a = &q[kVars * i];
-            const double speed = std::sqrt(a[1] * a[1] + a[2] * a[2] + a[3] * a[3]) / a[0];
-            const double mach = speed / std::sqrt(gamma * pressure(a, gamma) / a[0]);
-            if (mach > rec.maxMach) {
-                rec.maxMach = mach;
-                rec.maxMachNode = i;
-            }
-        }
+        const std::vector<double> mach = machNumber(fm, q, gamma);
+        const auto fastest = std::max_element(mach.begin(), mach.end());
+        rec.maxMach = *fastest;
+        rec.maxMachNode = fastest - mach.begin();
         rec.seconds = elapsed();
         qm.swap(qn);
         qn = q;
